@@ -1,0 +1,126 @@
+#include "cli/common_options.h"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+#include "core/load_scene.h"
+
+namespace exao::cli {
+
+void add_scene_options(CLI::App& app, SceneOptions& options) {
+  app.add_option("scene", options.scene, "A built-in scene (room, plane-pair, sphere-on-plane) or a .gltf/.glb/.obj/.ply/.off/.stl file")
+      ->capture_default_str();
+  app.add_option("--sided", options.sided, "Triangle sidedness: auto (glTF doubleSided; other formats two-sided), one, two")
+      ->check(CLI::IsMember({"auto", "one", "two"}))
+      ->capture_default_str();
+}
+
+void add_ray_options(CLI::App& app, RayOptions& options) {
+  app.add_option("-n,--samples", options.samples, "Rays per receiver: a multiple of 32 from 32 to 1024")->capture_default_str();
+  app.add_option("-r,--radius", options.radius, "AO radius: a length, or a percentage of the bounding-box diagonal (5%)")
+      ->capture_default_str();
+  app.add_option("--falloff", options.falloff, "constant, linear or quadratic")->capture_default_str();
+  app.add_option("--offset", options.offset, "Ray origin offset along the normal (default 1e-4 of the diagonal)");
+  app.add_option("-j,--threads", options.threads, "Worker threads (0: all cores)")->capture_default_str();
+}
+
+void add_camera_options(CLI::App& app, CameraOptions& options) {
+  app.add_option("--camera", options.camera, "A camera of the file, by name or index");
+  app.add_option("--eye", options.eye, "Camera position X,Y,Z")->delimiter(',')->expected(3);
+  app.add_option("--target", options.target, "Point the camera looks at X,Y,Z")->delimiter(',')->expected(3);
+  app.add_option("--fov", options.fov, "Vertical field of view in degrees, with --eye")->capture_default_str();
+  app.add_option("-W,--width", options.width, "Image width in pixels")->capture_default_str();
+  app.add_option("-H,--height", options.height, "Image height in pixels (default: from the camera's aspect, or 480)");
+}
+
+Result<Scene> open_scene(const SceneOptions& options) {
+  Result<Scene> scene = exao::open_scene(options.scene);
+  if (!scene) return scene;
+  const LoadReport& r = scene->report;
+  const std::string name = options.scene;
+  if (r.zero_area_skipped) std::fprintf(stderr, "exao: %s: skipped %zu zero-area triangles of %zu\n", name.c_str(), r.zero_area_skipped, r.triangles_read);
+  if (r.non_finite_skipped) std::fprintf(stderr, "exao: %s: skipped %zu triangles with NaN or infinite vertices\n", name.c_str(), r.non_finite_skipped);
+  for (const std::string& note : r.notes) std::fprintf(stderr, "exao: %s: %s\n", name.c_str(), note.c_str());
+  apply_sidedness(*scene, options.sided == "one" ? Sidedness::One : options.sided == "two" ? Sidedness::Two : Sidedness::Auto);
+  return scene;
+}
+
+Result<float> parse_radius(const std::string& text, float diagonal) {
+  const bool percent = !text.empty() && text.back() == '%';
+  const std::string number = percent ? text.substr(0, text.size() - 1) : text;
+  float value = 0.0f;
+  std::size_t used = 0;
+  try {
+    value = std::stof(number, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used == 0 || used != number.size()) return fail("--radius: '" + text + "' is not a length or a percentage");
+  if (!(std::isfinite(value) && value > 0.0f)) return fail("--radius: must be greater than 0, got '" + text + "'");
+  return percent ? value * 0.01f * diagonal : value;
+}
+
+Result<ShadowRays> make_rays(const RayOptions& options, const Scene& scene) {
+  const float diagonal = scene.bounds().diagonal();
+  Result<float> radius = parse_radius(options.radius, diagonal);
+  if (!radius) return std::unexpected(radius.error());
+  Result<Falloff> falloff = parse_falloff(options.falloff);
+  if (!falloff) return std::unexpected(falloff.error());
+  Result<SamplePattern> pattern = make_sample_pattern(options.samples, *falloff);
+  if (!pattern) return std::unexpected(pattern.error());
+  return make_shadow_rays(std::move(*pattern), *radius, options.offset.value_or(kDefaultOffsetFraction * diagonal));
+}
+
+Result<Camera> choose_camera(const CameraOptions& options, const Scene& scene) {
+  if (!options.eye.empty() || !options.target.empty()) {
+    if (options.eye.size() != 3 || options.target.size() != 3) return fail("--eye and --target: give both, as X,Y,Z");
+    const glm::vec3 eye(options.eye[0], options.eye[1], options.eye[2]);
+    const glm::vec3 target(options.target[0], options.target[1], options.target[2]);
+    if (glm::length(target - eye) <= 0.0f) return fail("--eye and --target: must be different points");
+    if (!(options.fov > 0.0f && options.fov < 180.0f)) return fail("--fov: must be between 0 and 180 degrees");
+    return look_at(eye, target, options.fov);
+  }
+  if (!options.camera.empty()) {
+    for (const Camera& camera : scene.cameras) {
+      if (camera.name == options.camera) return camera;
+    }
+    const bool digits = options.camera.find_first_not_of("0123456789") == std::string::npos;
+    if (digits && std::stoul(options.camera) < scene.cameras.size()) return scene.cameras[std::stoul(options.camera)];
+    return fail("--camera: the scene has no camera '" + options.camera + "' (it has " + std::to_string(scene.cameras.size()) + ")");
+  }
+  if (!scene.cameras.empty()) return scene.cameras.front();
+  const float aspect = static_cast<float>(options.width) / static_cast<float>(options.height.value_or(std::max(1, options.width * 3 / 4)));
+  return frame_bounds(scene.bounds(), aspect);
+}
+
+Result<int> image_height(const CameraOptions& options, const Camera& camera) {
+  int height = 480;
+  if (options.height) {
+    height = *options.height;
+  } else if (camera.aspect && *camera.aspect > 0.0f) {
+    height = std::max(1, static_cast<int>(std::lround(static_cast<float>(options.width) / *camera.aspect)));
+  } else {
+    height = std::max(1, options.width * 3 / 4);
+  }
+  if (options.width < 1 || height < 1 || options.width > 16384 || height > 16384) {
+    return fail("--width/--height: the image must be from 1 to 16384 pixels on each side");
+  }
+  return height;
+}
+
+Result<void> check_output(const std::string& output, const std::string& input) {
+  std::error_code ec;
+  if (std::filesystem::exists(input, ec) && std::filesystem::exists(output, ec) &&
+      std::filesystem::equivalent(output, input, ec)) {
+    return fail(output + ": is the input scene; refusing to overwrite it");
+  }
+  return {};
+}
+
+int report(const Error& error) {
+  std::fprintf(stderr, "exao: %s\n", error.message.c_str());
+  return 1;
+}
+
+}  // namespace exao::cli

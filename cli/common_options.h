@@ -1,0 +1,62 @@
+#pragma once
+// Options several subcommands share, parsed into plain structs and turned into library inputs.
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "core/camera.h"
+#include "core/error.h"
+#include "core/scene.h"
+#include "core/shadow_rays.h"
+
+namespace exao::cli {
+
+struct SceneOptions {
+  std::string scene = "room";  // a built-in scene's name or a file
+  std::string sided = "auto";  // auto | one | two
+};
+
+struct RayOptions {
+  int samples = 128;
+  std::string radius = "5%";   // a length, or a percentage of the bounding-box diagonal
+  std::string falloff = "constant";
+  std::optional<float> offset; // origin offset; default 1e-4 of the diagonal
+  int threads = 0;             // 0: all cores
+};
+
+struct CameraOptions {
+  std::string camera;          // a file camera's name or index
+  std::vector<float> eye;      // X,Y,Z
+  std::vector<float> target;   // X,Y,Z
+  float fov = 60.0f;           // degrees, vertical; used with --eye/--target
+  int width = 640;
+  std::optional<int> height;   // default: width / the camera's aspect, or 480
+};
+
+void add_scene_options(CLI::App& app, SceneOptions& options);
+void add_ray_options(CLI::App& app, RayOptions& options);
+void add_camera_options(CLI::App& app, CameraOptions& options);
+
+/// Opens the scene, applies --sided and prints what the loader skipped (one line each) to stderr.
+[[nodiscard]] Result<Scene> open_scene(const SceneOptions& options);
+
+/// "0.5" is a length; "5%" is 5 percent of `diagonal`.
+[[nodiscard]] Result<float> parse_radius(const std::string& text, float diagonal);
+
+/// The pattern and radius of section 1, for this scene.
+[[nodiscard]] Result<ShadowRays> make_rays(const RayOptions& options, const Scene& scene);
+
+/// --camera, else --eye/--target, else the file's first camera, else a view framing the scene.
+[[nodiscard]] Result<Camera> choose_camera(const CameraOptions& options, const Scene& scene);
+[[nodiscard]] Result<int> image_height(const CameraOptions& options, const Camera& camera);
+
+/// Refuses an output path that names the input file (inputs are never overwritten).
+[[nodiscard]] Result<void> check_output(const std::string& output, const std::string& input);
+
+/// Prints "exao: <message>" on stderr and returns the exit status for bad input.
+int report(const Error& error);
+
+}  // namespace exao::cli

@@ -1,0 +1,118 @@
+#include "core/builtin_scenes.h"
+
+#include <cmath>
+
+#include "core/load_scene.h"
+
+namespace exao {
+namespace {
+
+// A quad a, b, c, d, counter-clockwise seen from its front, split into an n x m grid of cells
+// so that per-vertex bakes have vertices to hold the AO.
+void add_grid(Scene& scene, glm::vec3 a, glm::vec3 b, glm::vec3 d, int n, int m) {
+  const glm::vec3 u = (b - a) / static_cast<float>(n);
+  const glm::vec3 v = (d - a) / static_cast<float>(m);
+  for (int j = 0; j < m; ++j) {
+    for (int i = 0; i < n; ++i) {
+      const glm::vec3 p = a + static_cast<float>(i) * u + static_cast<float>(j) * v;
+      scene.add_triangle(p, p + u, p + u + v, false, 0);
+      scene.add_triangle(p, p + u + v, p + v, false, 0);
+    }
+  }
+}
+
+int cells(float length, float cell) { return std::max(1, static_cast<int>(std::lround(length / cell))); }
+
+// A box from lo to hi; faces point outwards when `outward`, inwards (a room) otherwise.
+void add_box(Scene& scene, glm::vec3 lo, glm::vec3 hi, bool outward, float cell) {
+  const glm::vec3 e = hi - lo;
+  struct Face { glm::vec3 a, b, d; };
+  // Each face listed counter-clockwise as seen from outside the box.
+  const Face faces[6] = {
+      {{lo.x, lo.y, hi.z}, {hi.x, lo.y, hi.z}, {lo.x, hi.y, hi.z}},  // +Z
+      {{hi.x, lo.y, lo.z}, {lo.x, lo.y, lo.z}, {hi.x, hi.y, lo.z}},  // -Z
+      {{hi.x, lo.y, hi.z}, {hi.x, lo.y, lo.z}, {hi.x, hi.y, hi.z}},  // +X
+      {{lo.x, lo.y, lo.z}, {lo.x, lo.y, hi.z}, {lo.x, hi.y, lo.z}},  // -X
+      {{lo.x, hi.y, hi.z}, {hi.x, hi.y, hi.z}, {lo.x, hi.y, lo.z}},  // +Y
+      {{lo.x, lo.y, lo.z}, {hi.x, lo.y, lo.z}, {lo.x, lo.y, hi.z}},  // -Y
+  };
+  for (const Face& f : faces) {
+    const float wu = glm::length(f.b - f.a);
+    const float wv = glm::length(f.d - f.a);
+    if (outward) {
+      add_grid(scene, f.a, f.b, f.d, cells(wu, cell), cells(wv, cell));
+    } else {
+      add_grid(scene, f.a, f.d, f.b, cells(wv, cell), cells(wu, cell));  // swapped axes flip the winding
+    }
+  }
+  (void)e;
+}
+
+void add_sphere(Scene& scene, glm::vec3 centre, float radius, int slices, int stacks) {
+  const auto point = [&](int i, int j) {
+    const float phi = 6.2831853f * static_cast<float>(i) / static_cast<float>(slices);
+    const float theta = 3.1415927f * static_cast<float>(j) / static_cast<float>(stacks);
+    return centre + radius * glm::vec3(std::sin(theta) * std::cos(phi), std::cos(theta), -std::sin(theta) * std::sin(phi));
+  };
+  for (int j = 0; j < stacks; ++j) {
+    for (int i = 0; i < slices; ++i) {
+      const glm::vec3 a = point(i, j), b = point(i, j + 1), c = point(i + 1, j + 1), d = point(i + 1, j);
+      if (j > 0) scene.add_triangle(a, b, d, false, 0);            // the poles have one triangle per slice
+      if (j < stacks - 1) scene.add_triangle(d, b, c, false, 0);
+    }
+  }
+}
+
+}  // namespace
+
+Scene make_room() {
+  Scene scene;
+  scene.name = "room";
+  const float cell = 0.25f;
+  add_box(scene, {-5.0f, 0.0f, -4.0f}, {5.0f, 4.0f, 4.0f}, false, cell);
+  add_box(scene, {-2.6f, 0.0f, -1.8f}, {-0.4f, 1.0f, -0.4f}, true, cell);
+  add_box(scene, {-2.2f, 1.0f, -1.5f}, {-1.4f, 1.8f, -0.7f}, true, cell);
+  add_box(scene, {3.2f, 0.0f, -3.6f}, {3.8f, 4.0f, -3.0f}, true, cell);
+  add_sphere(scene, {1.6f, 0.9f, 0.6f}, 0.9f, 48, 24);
+  scene.cameras.push_back(look_at({-4.3f, 2.7f, 3.7f}, {0.8f, 0.7f, -1.4f}, 62.0f));
+  scene.cameras.back().name = "inside";
+  return scene;
+}
+
+Scene make_plane_pair(float height, float half_size) {
+  Scene scene;
+  scene.name = "plane-pair";
+  const int n = cells(2.0f * half_size, 0.25f);
+  const float s = half_size;
+  add_grid(scene, {-s, 0.0f, s}, {s, 0.0f, s}, {-s, 0.0f, -s}, n, n);                // floor, facing +Y
+  add_grid(scene, {-s, height, -s}, {s, height, -s}, {-s, height, s}, n, n);      // ceiling, facing -Y
+  scene.cameras.push_back(look_at({-0.9f * s, 0.5f * height, 0.9f * s}, {0.0f, 0.0f, 0.0f}, 70.0f));
+  scene.cameras.back().name = "between";
+  return scene;
+}
+
+Scene make_sphere_on_plane() {
+  Scene scene;
+  scene.name = "sphere-on-plane";
+  add_grid(scene, {-4.0f, 0.0f, 4.0f}, {4.0f, 0.0f, 4.0f}, {-4.0f, 0.0f, -4.0f}, 32, 32);
+  add_sphere(scene, {0.0f, 1.0f, 0.0f}, 1.0f, 64, 32);
+  return scene;
+}
+
+std::vector<std::string> builtin_scene_names() { return {"room", "plane-pair", "sphere-on-plane"}; }
+
+Result<Scene> builtin_scene(const std::string& name) {
+  if (name == "room") return make_room();
+  if (name == "plane-pair") return make_plane_pair();
+  if (name == "sphere-on-plane") return make_sphere_on_plane();
+  return fail(name + ": no such built-in scene (room, plane-pair, sphere-on-plane)");
+}
+
+Result<Scene> open_scene(const std::string& name_or_path) {
+  for (const std::string& name : builtin_scene_names()) {
+    if (name == name_or_path) return builtin_scene(name);
+  }
+  return load_scene(name_or_path);
+}
+
+}  // namespace exao

@@ -1,0 +1,22 @@
+#pragma once
+// The procedural scenes exao generates itself, so every command runs with no file and the tests
+// have analytic answers. All are in metres-like units, +Y up, one-sided with fronts facing the
+// open space.
+
+#include "core/scene.h"
+
+namespace exao {
+
+/// A closed 10 x 4 x 8 room (walls facing in) with two stacked boxes, a sphere on the floor and
+/// a floor-to-ceiling column: corners, contact shadows and creases. Has a camera inside.
+[[nodiscard]] Scene make_room();
+
+/// Two parallel squares of half-size `half_size` centred on the Y axis: a floor at y = 0 facing
+/// up and a ceiling at y = height facing down. With constant falloff, a point near the centre
+/// of the floor has AO = (h / r)^2 for r > h (h measured from the ray origin).
+[[nodiscard]] Scene make_plane_pair(float height = 0.5f, float half_size = 4.0f);
+
+/// A unit sphere resting on an 8 x 8 floor.
+[[nodiscard]] Scene make_sphere_on_plane();
+
+}  // namespace exao

@@ -1,0 +1,283 @@
+#include "core/embree_reference.h"
+
+#include <embree3/rtcore.h>
+#include <pmmintrin.h>
+#include <xmmintrin.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <mutex>
+#include <vector>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+namespace exao {
+
+struct EmbreeScene::Impl {
+  RTCDevice device = nullptr;
+  RTCScene scene = nullptr;
+  // Per Embree geometry: scene triangle index of each primitive, and for the one-sided geometry
+  // the front-face normals the occlusion filter tests against.
+  std::vector<std::uint32_t> triangle_of[2];
+  std::vector<glm::vec3> front_normals;
+  std::mutex error_mutex;
+  std::string first_error;
+
+  ~Impl() {
+    if (scene) rtcReleaseScene(scene);
+    if (device) rtcReleaseDevice(device);
+  }
+};
+
+namespace {
+
+constexpr unsigned kOneSided = 0;
+constexpr unsigned kTwoSided = 1;
+
+void on_embree_error(void* user, RTCError code, const char* message) {
+  auto* impl = static_cast<EmbreeScene::Impl*>(user);
+  std::lock_guard lock(impl->error_mutex);
+  if (impl->first_error.empty()) {
+    impl->first_error = "Embree error " + std::to_string(static_cast<int>(code)) + ": " + (message ? message : "");
+  }
+}
+
+// A one-sided triangle blocks a ray only when the ray arrives at its front face, i.e. travels
+// against the counter-clockwise normal (DESIGN.md section 1).
+void keep_front_face_hits(const RTCFilterFunctionNArguments* args) {
+  const auto* normals = static_cast<const glm::vec3*>(args->geometryUserPtr);
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] != -1) continue;
+    const glm::vec3& n = normals[RTCHitN_primID(args->hit, args->N, i)];
+    const float along = RTCRayN_dir_x(args->ray, args->N, i) * n.x + RTCRayN_dir_y(args->ray, args->N, i) * n.y +
+                        RTCRayN_dir_z(args->ray, args->N, i) * n.z;
+    if (!(along < 0.0f)) args->valid[i] = 0;
+  }
+}
+
+// Embree reads vertex buffers with 16-byte loads, so its own allocation (padded) is used.
+void attach_triangles(EmbreeScene::Impl& impl, const Scene& scene, unsigned id) {
+  const std::vector<std::uint32_t>& triangles = impl.triangle_of[id];
+  if (triangles.empty()) return;
+  RTCGeometry geometry = rtcNewGeometry(impl.device, RTC_GEOMETRY_TYPE_TRIANGLE);
+  auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                               3 * sizeof(float), 3 * triangles.size()));
+  auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                                 3 * sizeof(unsigned), triangles.size()));
+  for (std::size_t k = 0; k < triangles.size(); ++k) {
+    const auto tri = scene.triangle(triangles[k]);
+    for (int j = 0; j < 3; ++j) {
+      vertices[9 * k + 3 * j + 0] = tri[j].x;
+      vertices[9 * k + 3 * j + 1] = tri[j].y;
+      vertices[9 * k + 3 * j + 2] = tri[j].z;
+      indices[3 * k + j] = static_cast<unsigned>(3 * k + j);
+    }
+  }
+  if (id == kOneSided) {
+    rtcSetGeometryUserData(geometry, impl.front_normals.data());
+    rtcSetGeometryOccludedFilterFunction(geometry, keep_front_face_hits);
+  }
+  rtcSetGeometryBuildQuality(geometry, RTC_BUILD_QUALITY_HIGH);
+  rtcCommitGeometry(geometry);
+  rtcAttachGeometryByID(impl.scene, geometry, id);
+  rtcReleaseGeometry(geometry);
+}
+
+// Denormals make traversal slow for no benefit in a ray caster: flush them, per worker thread.
+void flush_denormals() {
+  _MM_SET_FLUSH_ZERO_MODE(_MM_FLUSH_ZERO_ON);
+  _MM_SET_DENORMALS_ZERO_MODE(_MM_DENORMALS_ZERO_ON);
+}
+
+template <int K>
+struct Packet;
+template <>
+struct Packet<4> {
+  using Ray = RTCRay4;
+  static void occluded(const int* valid, RTCScene s, RTCIntersectContext* c, Ray* r) { rtcOccluded4(valid, s, c, r); }
+};
+template <>
+struct Packet<8> {
+  using Ray = RTCRay8;
+  static void occluded(const int* valid, RTCScene s, RTCIntersectContext* c, Ray* r) { rtcOccluded8(valid, s, c, r); }
+};
+template <>
+struct Packet<16> {
+  using Ray = RTCRay16;
+  static void occluded(const int* valid, RTCScene s, RTCIntersectContext* c, Ray* r) { rtcOccluded16(valid, s, c, r); }
+};
+
+template <class Ray>
+void set_lane(Ray& ray, int lane, const Frame& frame, const ShadowRays& rays, int sample) {
+  const glm::vec3 d = frame.to_world_direction(rays.pattern.directions[sample]);
+  ray.org_x[lane] = frame.origin.x;
+  ray.org_y[lane] = frame.origin.y;
+  ray.org_z[lane] = frame.origin.z;
+  ray.dir_x[lane] = d.x;
+  ray.dir_y[lane] = d.y;
+  ray.dir_z[lane] = d.z;
+  ray.tnear[lane] = 0.0f;
+  ray.tfar[lane] = rays.pattern.lengths[sample] * rays.radius;
+  ray.time[lane] = 0.0f;
+  ray.mask[lane] = 0xFFFFFFFFu;
+  ray.id[lane] = 0;
+  ray.flags[lane] = 0;
+}
+
+// Rays of receivers [begin, end), K at a time.
+template <int K>
+void cast_packets(RTCScene scene, const ShadowRays& rays, std::span<const Receiver> receivers, std::size_t begin,
+                  std::size_t end, const EmbreeOptions& options, MaskSet& masks) {
+  using P = Packet<K>;
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  if (options.coherent) context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  alignas(64) int valid[K];
+  alignas(64) typename P::Ray packet;
+  const int n = rays.count();
+
+  if (options.across_receivers) {
+    Frame frames[K];
+    for (std::size_t first = begin; first < end; first += K) {
+      const int lanes = static_cast<int>(std::min<std::size_t>(K, end - first));
+      for (int lane = 0; lane < lanes; ++lane) frames[lane] = rays.frame(receivers[first + lane]);
+      for (int sample = 0; sample < n; ++sample) {
+        for (int lane = 0; lane < K; ++lane) {
+          valid[lane] = lane < lanes ? -1 : 0;
+          set_lane(packet, lane, frames[lane < lanes ? lane : 0], rays, sample);
+        }
+        P::occluded(valid, scene, &context, &packet);
+        for (int lane = 0; lane < lanes; ++lane) {
+          if (packet.tfar[lane] == -std::numeric_limits<float>::infinity()) {
+            masks.row(first + lane)[sample / 64] |= std::uint64_t{1} << (sample % 64);
+          }
+        }
+      }
+    }
+  } else {
+    for (std::size_t r = begin; r < end; ++r) {
+      const Frame frame = rays.frame(receivers[r]);
+      std::span<std::uint64_t> row = masks.row(r);
+      for (int first = 0; first < n; first += K) {
+        for (int lane = 0; lane < K; ++lane) {
+          valid[lane] = -1;  // N is a multiple of 32, so packets are always full
+          set_lane(packet, lane, frame, rays, first + lane);
+        }
+        P::occluded(valid, scene, &context, &packet);
+        for (int lane = 0; lane < K; ++lane) {
+          if (packet.tfar[lane] == -std::numeric_limits<float>::infinity()) {
+            row[(first + lane) / 64] |= std::uint64_t{1} << ((first + lane) % 64);
+          }
+        }
+      }
+    }
+  }
+}
+
+void cast_single(RTCScene scene, const ShadowRays& rays, std::span<const Receiver> receivers, std::size_t begin,
+                 std::size_t end, MaskSet& masks) {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  const int n = rays.count();
+  for (std::size_t r = begin; r < end; ++r) {
+    const Frame frame = rays.frame(receivers[r]);
+    std::span<std::uint64_t> row = masks.row(r);
+    for (int sample = 0; sample < n; ++sample) {
+      const glm::vec3 d = frame.to_world_direction(rays.pattern.directions[sample]);
+      RTCRay ray{frame.origin.x, frame.origin.y, frame.origin.z, 0.0f, d.x, d.y, d.z, 0.0f,
+                 rays.pattern.lengths[sample] * rays.radius, 0xFFFFFFFFu, 0, 0};
+      rtcOccluded1(scene, &context, &ray);
+      if (ray.tfar == -std::numeric_limits<float>::infinity()) row[sample / 64] |= std::uint64_t{1} << (sample % 64);
+    }
+  }
+}
+
+}  // namespace
+
+const char* embree_rays_name(EmbreeRays rays) {
+  switch (rays) {
+    case EmbreeRays::Single: return "single";
+    case EmbreeRays::Packet4: return "packet4";
+    case EmbreeRays::Packet8: return "packet8";
+    case EmbreeRays::Packet16: return "packet16";
+  }
+  return "?";
+}
+
+Result<EmbreeRays> parse_embree_rays(const std::string& name) {
+  for (const EmbreeRays r : {EmbreeRays::Single, EmbreeRays::Packet4, EmbreeRays::Packet8, EmbreeRays::Packet16}) {
+    if (name == embree_rays_name(r)) return r;
+  }
+  return fail("--embree-rays: unknown mode '" + name + "' (single, packet4, packet8 or packet16)");
+}
+
+EmbreeScene::EmbreeScene(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+EmbreeScene::EmbreeScene(EmbreeScene&&) noexcept = default;
+EmbreeScene& EmbreeScene::operator=(EmbreeScene&&) noexcept = default;
+EmbreeScene::~EmbreeScene() = default;
+
+Result<EmbreeScene> EmbreeScene::build(const Scene& scene) {
+  auto impl = std::make_unique<Impl>();
+  impl->device = rtcNewDevice(nullptr);
+  if (!impl->device) return fail("Embree: cannot create a device (" + std::to_string(static_cast<int>(rtcGetDeviceError(nullptr))) + ")");
+  rtcSetDeviceErrorFunction(impl->device, on_embree_error, impl.get());
+  impl->scene = rtcNewScene(impl->device);
+  rtcSetSceneBuildQuality(impl->scene, RTC_BUILD_QUALITY_HIGH);
+
+  for (std::uint32_t t = 0; t < scene.triangle_count(); ++t) {
+    const unsigned id = scene.two_sided[t] ? kTwoSided : kOneSided;
+    impl->triangle_of[id].push_back(t);
+    if (id == kOneSided) {
+      const auto tri = scene.triangle(t);
+      impl->front_normals.push_back(glm::cross(tri[1] - tri[0], tri[2] - tri[0]));
+    }
+  }
+  attach_triangles(*impl, scene, kOneSided);
+  attach_triangles(*impl, scene, kTwoSided);
+  rtcCommitScene(impl->scene);
+  if (!impl->first_error.empty()) return fail(impl->first_error);
+  return EmbreeScene(std::move(impl));
+}
+
+std::optional<EmbreeScene::Hit> EmbreeScene::closest_hit(const glm::vec3& origin, const glm::vec3& direction) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRayHit query{};
+  query.ray = RTCRay{origin.x, origin.y, origin.z, 0.0f, direction.x, direction.y, direction.z, 0.0f,
+                     std::numeric_limits<float>::infinity(), 0xFFFFFFFFu, 0, 0};
+  query.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(impl_->scene, &context, &query);
+  if (query.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
+  return Hit{impl_->triangle_of[query.hit.geomID][query.hit.primID], query.ray.tfar};
+}
+
+MaskSet EmbreeScene::occlusion(const ShadowRays& rays, std::span<const Receiver> receivers,
+                               const EmbreeOptions& options, const ProgressCallback& progress) const {
+  MaskSet masks(receivers.size(), rays.count());
+  ProgressCounter counter(progress, receivers.size());
+  // Chunks of 64 receivers: a multiple of every packet width, and plenty of tasks to balance.
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, receivers.size(), 64),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      flush_denormals();
+                      switch (options.rays) {
+                        case EmbreeRays::Single:
+                          cast_single(impl_->scene, rays, receivers, range.begin(), range.end(), masks);
+                          break;
+                        case EmbreeRays::Packet4:
+                          cast_packets<4>(impl_->scene, rays, receivers, range.begin(), range.end(), options, masks);
+                          break;
+                        case EmbreeRays::Packet8:
+                          cast_packets<8>(impl_->scene, rays, receivers, range.begin(), range.end(), options, masks);
+                          break;
+                        case EmbreeRays::Packet16:
+                          cast_packets<16>(impl_->scene, rays, receivers, range.begin(), range.end(), options, masks);
+                          break;
+                      }
+                      counter.add(range.size());
+                    });
+  return masks;
+}
+
+}  // namespace exao

@@ -1,0 +1,68 @@
+#pragma once
+// The Embree reference ray caster (DESIGN.md section 5, `embree`): the ground truth every other
+// backend is checked against, and the speed it must beat, so it runs at its best.
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+
+#include <glm/glm.hpp>
+
+#include "core/error.h"
+#include "core/mask_set.h"
+#include "core/progress.h"
+#include "core/scene.h"
+#include "core/shadow_rays.h"
+
+namespace exao {
+
+/// How Embree is asked about the rays: one at a time, or in packets of 4, 8 or 16.
+enum class EmbreeRays { Single, Packet4, Packet8, Packet16 };
+
+[[nodiscard]] const char* embree_rays_name(EmbreeRays rays);
+[[nodiscard]] Result<EmbreeRays> parse_embree_rays(const std::string& name);
+
+struct EmbreeOptions {
+  /// The default is the fastest on this project's benchmark machine (see README, `exao bench`).
+  EmbreeRays rays = EmbreeRays::Packet8;
+  /// Packets hold the same sample of neighbouring receivers (near-parallel rays from nearby
+  /// origins) rather than neighbouring samples of one receiver (rays fanning out from a point).
+  bool across_receivers = true;
+  /// RTC_INTERSECT_CONTEXT_FLAG_COHERENT for packets.
+  bool coherent = true;
+};
+
+/// A scene committed to Embree. One-sided triangles reject back-face hits in an occlusion filter;
+/// two-sided ones live in a geometry without a filter. Immutable after build; any number of
+/// threads may query it at once. Uses the TBB thread limit in force (tbb::global_control).
+class EmbreeScene {
+ public:
+  struct Hit {
+    std::uint32_t triangle;  // index into Scene's triangles
+    float distance;          // along the unit ray direction
+  };
+
+  [[nodiscard]] static Result<EmbreeScene> build(const Scene& scene);
+  EmbreeScene(EmbreeScene&&) noexcept;
+  EmbreeScene& operator=(EmbreeScene&&) noexcept;
+  ~EmbreeScene();
+
+  /// Nearest hit of either face of any triangle along origin + t * direction, t in [0, inf).
+  [[nodiscard]] std::optional<Hit> closest_hit(const glm::vec3& origin, const glm::vec3& direction) const;
+
+  /// Casts the N rays of every receiver (DESIGN.md section 1) and returns their masks, in the
+  /// receivers' order. Multithreaded with TBB; progress is reported in receivers.
+  [[nodiscard]] MaskSet occlusion(const ShadowRays& rays, std::span<const Receiver> receivers,
+                                  const EmbreeOptions& options = {},
+                                  const ProgressCallback& progress = {}) const;
+
+ struct Impl;  // opaque: Embree's headers stay out of exao's
+
+ private:
+  explicit EmbreeScene(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace exao

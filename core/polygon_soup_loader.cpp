@@ -1,0 +1,186 @@
+// OBJ, PLY, OFF and STL through CGAL's polygon-soup reader. These formats carry no notion of
+// sidedness, so every triangle blocks rays from both sides; polygons are fan-triangulated.
+
+#include <CGAL/IO/polygon_soup_io.h>
+#include <CGAL/Simple_cartesian.h>
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cstdint>
+#include <exception>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "core/load_scene.h"
+
+namespace exao {
+namespace {
+
+using Point = CGAL::Simple_cartesian<double>::Point_3;
+using Polygon = std::vector<std::size_t>;
+
+std::string lowercase_extension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+// The OBJ statements CGAL 5.5's reader accepts and ignores (CGAL/IO/OBJ.h); any other, such
+// as `l` (a polyline), makes it refuse the whole file.
+constexpr std::array<std::string_view, 45> kObjIgnored{
+    "vt", "vn", "vp", "bevel", "lod", "ctech", "c_interp", "usemap", "usemtl", "stech",
+    "d_interp", "mtllib", "shadow_obj", "trace_obj", "o", "g", "s", "p", "cstype", "deg",
+    "step", "bmat", "con", "curv", "curv2", "surf", "parm", "trim", "hole", "scrv", "sp",
+    "end", "surf_1", "q0_1", "q1_1", "curv2d_1", "surf_2", "q0_2", "q1_2", "curv2d_2", "bsp",
+    "bzp", "cdc", "cdp", "res"};
+
+// CGAL's reader says only "false" when it refuses a file (its verbose mode prints to stderr,
+// which library code must not do). For OBJ, the most common hand-made format, this scan finds
+// the first reason in CGAL's own terms so the error can name it.
+std::string explain_obj_failure(const std::string& path) {
+  std::ifstream in(path);
+  std::string line;
+  std::size_t line_number = 0;
+  std::size_t vertices = 0;
+  std::size_t faces = 0;
+  long long worst_index = 0;  // the first face index found beyond the vertices, as written
+  std::size_t worst_face = 0;
+  std::vector<long long> face_max;  // largest positive index per face, checked at the end
+  while (std::getline(in, line)) {
+    ++line_number;
+    std::istringstream iss(line);
+    std::string keyword;
+    if (!(iss >> keyword)) continue;
+    if (keyword == "v") {
+      double x = 0.0;
+      double y = 0.0;
+      double z = 0.0;
+      if (!(iss >> x >> y >> z)) return "line " + std::to_string(line_number) + ": bad vertex";
+      ++vertices;
+    } else if (keyword == "f") {
+      ++faces;
+      long long i = 0;
+      long long largest = 0;
+      while (iss >> i) {
+        if (i < 0 && -i > static_cast<long long>(vertices) && worst_face == 0) {
+          worst_face = faces;
+          worst_index = i;
+        }
+        largest = std::max(largest, i);
+        iss.ignore(256, ' ');
+      }
+      face_max.push_back(largest);
+    } else if (keyword.front() != '#' &&
+               std::find(kObjIgnored.begin(), kObjIgnored.end(), keyword) == kObjIgnored.end()) {
+      return "line " + std::to_string(line_number) + ": unsupported statement '" +
+             keyword.substr(0, 20) + "'";
+    }
+  }
+  for (std::size_t f = 0; f < face_max.size() && worst_face == 0; ++f) {
+    if (face_max[f] > static_cast<long long>(vertices)) {
+      worst_face = f + 1;
+      worst_index = face_max[f];
+    }
+  }
+  if (worst_face != 0) {
+    return "face " + std::to_string(worst_face) + " refers to vertex " +
+           std::to_string(worst_index) + ", file has " + std::to_string(vertices);
+  }
+  if (vertices == 0 || faces == 0) return "no triangles";
+  return "not a readable OBJ file";
+}
+
+Result<Scene> load(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return fail("no such file");
+  const std::string ext = lowercase_extension(path);
+  if (ext != ".obj" && ext != ".ply" && ext != ".off" && ext != ".stl") {
+    return fail("not an OBJ, PLY, OFF or STL file");
+  }
+
+  std::vector<Point> points;
+  std::vector<Polygon> polygons;
+  const bool ok =
+      CGAL::IO::read_polygon_soup(path, points, polygons, CGAL::parameters::verbose(false));
+  if (!ok) {
+    if (ext == ".obj") return fail(explain_obj_failure(path));
+    if (points.empty() || polygons.empty()) {
+      return fail("not a readable " + ext.substr(1) + " file, or it has no faces");
+    }
+    return fail("not a readable " + ext.substr(1) + " file");
+  }
+
+  // CGAL checks OBJ indices loosely (one past the end passes) and PLY/OFF indices not at all.
+  const std::size_t vertex_count = points.size();
+  // OBJ numbers vertices from 1; the other formats from 0. Errors quote the file's numbering.
+  const long long base = ext == ".obj" ? 1 : 0;
+  for (std::size_t f = 0; f < polygons.size(); ++f) {
+    for (const std::size_t v : polygons[f]) {
+      if (v >= vertex_count) {
+        return fail("face " + std::to_string(f + 1) + " refers to vertex " +
+                    std::to_string(static_cast<long long>(v) + base) + ", file has " +
+                    std::to_string(vertex_count));
+      }
+    }
+  }
+
+  Scene scene;
+  std::size_t too_small = 0;
+  std::size_t triangles = 0;
+  for (const Polygon& polygon : polygons) {
+    if (polygon.size() >= 3) triangles += polygon.size() - 2;
+  }
+  scene.vertices.reserve(3 * triangles);
+  scene.two_sided.reserve(triangles);
+  scene.material.reserve(triangles);
+  const auto at = [&](std::size_t i) {
+    const Point& p = points[i];
+    return glm::vec3(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
+  };
+  for (const Polygon& polygon : polygons) {
+    if (polygon.size() < 3) {
+      ++too_small;
+      continue;
+    }
+    // Fan from the first corner: exact for the convex polygons these formats usually hold.
+    const glm::vec3 first = at(polygon[0]);
+    for (std::size_t k = 1; k + 1 < polygon.size(); ++k) {
+      scene.add_triangle(first, at(polygon[k]), at(polygon[k + 1]), true, -1);
+    }
+  }
+  if (too_small > 0) {
+    scene.report.notes.push_back(std::to_string(too_small) + " faces with fewer than 3 vertices skipped");
+  }
+  if (scene.triangle_count() == 0) return fail("no triangles");
+  return scene;
+}
+
+}  // namespace
+
+Result<Scene> load_polygon_soup(const std::string& path) {
+  Result<Scene> scene;
+  // CGAL reports some failures by throwing (its assertions, bad_alloc on a hostile count).
+  try {
+    scene = load(path);
+  } catch (const std::exception& e) {
+    std::string what = e.what();
+    for (char& c : what) {
+      if (c == '\n' || c == '\r') c = ' ';
+    }
+    scene = fail("cannot read: " + what.substr(0, 200));
+  } catch (...) {
+    scene = fail("cannot read: unknown error");
+  }
+  if (!scene) return fail(path + ": " + scene.error().message);
+  scene->name = std::filesystem::path(path).stem().string();
+  return scene;
+}
+
+}  // namespace exao

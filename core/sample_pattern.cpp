@@ -1,0 +1,242 @@
+#include "core/sample_pattern.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <numeric>
+#include <sstream>
+
+#include "core/atomic_write.h"
+#include "core/random.h"
+
+namespace exao {
+namespace {
+
+// Lloyd relaxation on the unit disc, with the disc represented by many fixed density points:
+// a Voronoi cell's centroid is the mean of the density points nearest its site. A uniform
+// grid over the sites makes the nearest-site search cheap.
+class DiscLloyd {
+ public:
+  DiscLloyd(int sites, Rng& rng) : sites_(static_cast<std::size_t>(sites)) {
+    // Jittered-grid density points inside the disc, about 192 per site (at least 64K): enough
+    // that a cell's centroid is within a small fraction of the site spacing of the true one.
+    const int per_side =
+        static_cast<int>(std::ceil(std::sqrt(std::max(65536.0, 192.0 * sites) * 4.0 / M_PI)));
+    const double h = 2.0 / per_side;
+    for (int j = 0; j < per_side; ++j) {
+      for (int i = 0; i < per_side; ++i) {
+        const glm::dvec2 p(-1.0 + (i + rng.uniform()) * h, -1.0 + (j + rng.uniform()) * h);
+        if (glm::dot(p, p) < 1.0) density_.push_back(p);
+      }
+    }
+    owner_.resize(density_.size());
+    cell_ = 1.5 * std::sqrt(M_PI / sites);
+    grid_side_ = static_cast<int>(std::ceil(2.0 / cell_));
+  }
+
+  // One Lloyd step: every site moves to the centroid of its cell.
+  void relax(std::vector<glm::dvec2>& sites) {
+    assign(sites);
+    std::vector<glm::dvec2> sum(sites.size(), glm::dvec2(0.0));
+    std::vector<int> count(sites.size(), 0);
+    for (std::size_t k = 0; k < density_.size(); ++k) {
+      sum[owner_[k]] += density_[k];
+      ++count[owner_[k]];
+    }
+    for (std::size_t s = 0; s < sites.size(); ++s) {
+      if (count[s] > 0) sites[s] = sum[s] / static_cast<double>(count[s]);
+    }
+  }
+
+  // Moves every site to a random density point of its own cell: a random point of the cell.
+  void jitter(std::vector<glm::dvec2>& sites, Rng& rng) {
+    assign(sites);
+    std::vector<std::vector<std::uint32_t>> members(sites.size());
+    for (std::size_t k = 0; k < density_.size(); ++k) members[owner_[k]].push_back(static_cast<std::uint32_t>(k));
+    for (std::size_t s = 0; s < sites.size(); ++s) {
+      if (!members[s].empty()) sites[s] = density_[members[s][rng.below(static_cast<std::uint32_t>(members[s].size()))]];
+    }
+  }
+
+ private:
+  [[nodiscard]] int grid_index(double x) const {
+    return std::clamp(static_cast<int>((x + 1.0) / cell_), 0, grid_side_ - 1);
+  }
+
+  void assign(const std::vector<glm::dvec2>& sites) {
+    std::vector<std::vector<std::uint32_t>> grid(static_cast<std::size_t>(grid_side_ * grid_side_));
+    for (std::size_t s = 0; s < sites.size(); ++s) {
+      grid[grid_index(sites[s].y) * grid_side_ + grid_index(sites[s].x)].push_back(static_cast<std::uint32_t>(s));
+    }
+    for (std::size_t k = 0; k < density_.size(); ++k) {
+      const glm::dvec2 p = density_[k];
+      const int gx = grid_index(p.x);
+      const int gy = grid_index(p.y);
+      double best = INFINITY;
+      std::uint32_t best_site = 0;
+      // Search rings of cells outwards until no unvisited cell can hold a nearer site: every
+      // cell of ring k+1 is at least k cells away.
+      for (int ring = 0; ring <= grid_side_; ++ring) {
+        const double reach = (ring - 1) * cell_;
+        if (ring > 0 && reach > 0.0 && reach * reach > best) break;
+        for (int y = gy - ring; y <= gy + ring; ++y) {
+          if (y < 0 || y >= grid_side_) continue;
+          for (int x = gx - ring; x <= gx + ring; ++x) {
+            if (x < 0 || x >= grid_side_) continue;
+            if (std::max(std::abs(x - gx), std::abs(y - gy)) != ring) continue;
+            for (const std::uint32_t s : grid[y * grid_side_ + x]) {
+              const glm::dvec2 d = sites[s] - p;
+              const double dist = glm::dot(d, d);
+              if (dist < best || (dist == best && s < best_site)) {
+                best = dist;
+                best_site = s;
+              }
+            }
+          }
+        }
+      }
+      owner_[k] = best_site;
+    }
+  }
+
+  std::size_t sites_;
+  std::vector<glm::dvec2> density_;
+  std::vector<std::uint32_t> owner_;
+  double cell_ = 1.0;
+  int grid_side_ = 1;
+};
+
+// Inverse CDF of the ray length l / r for a falloff: P(l >= D) = rho(D), so that a shadow ray
+// of length l is blocked by an occluder at distance D with probability rho(D) (Eq. 3 = Eq. 2).
+float length_from_level(Falloff falloff, double u) {
+  switch (falloff) {
+    case Falloff::Constant: return 1.0f;
+    case Falloff::Linear: return static_cast<float>(u);                              // rho = 1 - D
+    case Falloff::Quadratic: return static_cast<float>(1.0 - std::sqrt(1.0 - u));    // rho = (1 - D)^2
+  }
+  return 1.0f;
+}
+
+void finish(SamplePattern& pattern) {
+  pattern.points.resize(pattern.directions.size());
+  float min_z = 1.0f;
+  for (std::size_t i = 0; i < pattern.directions.size(); ++i) {
+    pattern.points[i] = pattern.directions[i] * pattern.lengths[i];
+    min_z = std::min(min_z, pattern.directions[i].z);
+  }
+  pattern.min_elevation = std::asin(min_z);
+}
+
+}  // namespace
+
+const char* falloff_name(Falloff falloff) {
+  switch (falloff) {
+    case Falloff::Constant: return "constant";
+    case Falloff::Linear: return "linear";
+    case Falloff::Quadratic: return "quadratic";
+  }
+  return "?";
+}
+
+Result<Falloff> parse_falloff(const std::string& name) {
+  for (const Falloff f : {Falloff::Constant, Falloff::Linear, Falloff::Quadratic}) {
+    if (name == falloff_name(f)) return f;
+  }
+  return fail("--falloff: unknown falloff '" + name + "' (constant, linear or quadratic)");
+}
+
+Result<void> check_sample_count(int count) {
+  if (count < kMinSamples || count > kMaxSamples || count % 32 != 0) {
+    return fail("--samples: " + std::to_string(count) + " is not a multiple of 32 from 32 to 1024");
+  }
+  return {};
+}
+
+Result<SamplePattern> make_sample_pattern(int count, Falloff falloff, std::uint64_t seed) {
+  if (auto ok = check_sample_count(count); !ok) return std::unexpected(ok.error());
+  Rng rng(mix64(seed) ^ static_cast<std::uint64_t>(count));
+
+  DiscLloyd lloyd(count, rng);
+  std::vector<glm::dvec2> sites;
+  while (static_cast<int>(sites.size()) < count) {
+    const glm::dvec2 p(2.0 * rng.uniform() - 1.0, 2.0 * rng.uniform() - 1.0);
+    if (glm::dot(p, p) < 1.0) sites.push_back(p);
+  }
+  // Many steps to reach a semi-regular pattern, then randomness back in, then a few steps
+  // more (paper Sec. 6): uniform density overall, with local randomness against aliasing.
+  for (int step = 0; step < 60; ++step) lloyd.relax(sites);
+  lloyd.jitter(sites, rng);
+  for (int step = 0; step < 3; ++step) lloyd.relax(sites);
+
+  SamplePattern pattern;
+  pattern.count = count;
+  pattern.falloff = falloff;
+  pattern.seed = seed;
+  for (const glm::dvec2& s : sites) {
+    const double z = std::sqrt(std::max(0.0, 1.0 - glm::dot(s, s)));
+    pattern.directions.push_back(glm::normalize(glm::vec3(glm::dvec3(s, z))));
+  }
+  // Stratified levels, one per stratum [k/N, (k+1)/N), given to the directions in random order.
+  std::vector<int> strata(static_cast<std::size_t>(count));
+  std::iota(strata.begin(), strata.end(), 0);
+  for (int i = count - 1; i > 0; --i) std::swap(strata[i], strata[rng.below(static_cast<std::uint32_t>(i + 1))]);
+  for (int i = 0; i < count; ++i) {
+    // 1 - level keeps lengths in (0, 1]: a zero-length ray could never be blocked.
+    const double level = 1.0 - (strata[i] + rng.uniform()) / count;
+    pattern.lengths.push_back(std::max(length_from_level(falloff, level), 1e-6f));
+  }
+  finish(pattern);
+  return pattern;
+}
+
+Result<void> save_sample_pattern(const SamplePattern& pattern, const std::string& path) {
+  return write_atomically(path, [&](const std::string& temp) -> Result<void> {
+    std::ofstream out(temp);
+    out << "exao-sample-pattern 1\n"
+        << "samples " << pattern.count << "\nfalloff " << falloff_name(pattern.falloff)
+        << "\nseed " << pattern.seed << "\n";
+    out.precision(9);  // 9 significant digits give back every float exactly
+    for (int i = 0; i < pattern.count; ++i) {
+      const glm::vec3 d = pattern.directions[i];
+      out << d.x << ' ' << d.y << ' ' << d.z << ' ' << pattern.lengths[i] << '\n';
+    }
+    if (!out.flush()) return fail(path + ": write failed");
+    return {};
+  });
+}
+
+Result<SamplePattern> load_sample_pattern(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) return fail(path + ": cannot open");
+  std::string magic, key_samples, key_falloff, key_seed, falloff;
+  int version = 0;
+  SamplePattern pattern;
+  in >> magic >> version >> key_samples >> pattern.count >> key_falloff >> falloff >> key_seed >> pattern.seed;
+  if (!in || magic != "exao-sample-pattern" || key_samples != "samples" || key_falloff != "falloff" ||
+      key_seed != "seed") {
+    return fail(path + ": not an exao sample pattern (bad header)");
+  }
+  if (version != 1) return fail(path + ": sample pattern format version " + std::to_string(version) + " is not supported");
+  if (auto ok = check_sample_count(pattern.count); !ok) return fail(path + ": " + ok.error().message);
+  auto parsed = parse_falloff(falloff);
+  if (!parsed) return fail(path + ": " + parsed.error().message);
+  pattern.falloff = *parsed;
+  for (int i = 0; i < pattern.count; ++i) {
+    glm::vec3 d;
+    float length = 0.0f;
+    if (!(in >> d.x >> d.y >> d.z >> length)) {
+      return fail(path + ": sample " + std::to_string(i) + " is missing or malformed");
+    }
+    if (!(std::abs(glm::length(d) - 1.0f) < 1e-4f) || !(d.z > 0.0f) || !(length > 0.0f && length <= 1.0f)) {
+      return fail(path + ": sample " + std::to_string(i) + " is not a unit direction above the horizon with length in (0, 1]");
+    }
+    pattern.directions.push_back(d);
+    pattern.lengths.push_back(length);
+  }
+  std::string extra;
+  if (in >> extra) return fail(path + ": unexpected data after " + std::to_string(pattern.count) + " samples");
+  finish(pattern);
+  return pattern;
+}
+
+}  // namespace exao

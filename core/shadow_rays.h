@@ -1,0 +1,41 @@
+#pragma once
+// The shared shadow rays of DESIGN.md section 1: pattern, radius and origin offset, which turn a
+// receiver into exactly N rays (p', R_p w_i, l_i r). Every backend takes its rays from here.
+
+#include <cmath>
+
+#include "core/error.h"
+#include "core/receiver_frame.h"
+#include "core/sample_pattern.h"
+
+namespace exao {
+
+struct ShadowRays {
+  SamplePattern pattern;
+  float radius = 1.0f;         // r: the longest ray, world units, > 0
+  float origin_offset = 0.0f;  // eps: rays start at p + eps * n, world units, >= 0
+
+  /// Half the pattern's smallest elevation: the normal's tilt never lets a ray below the horizon.
+  [[nodiscard]] float max_tilt() const { return 0.5f * pattern.min_elevation; }
+  [[nodiscard]] Frame frame(const Receiver& receiver) const {
+    return make_frame(receiver, origin_offset, max_tilt());
+  }
+  [[nodiscard]] int count() const { return pattern.count; }
+};
+
+/// Validates radius (finite, > 0) and offset (finite, >= 0) and bundles them with the pattern.
+[[nodiscard]] inline Result<ShadowRays> make_shadow_rays(SamplePattern pattern, float radius,
+                                                         float origin_offset) {
+  if (!(std::isfinite(radius) && radius > 0.0f)) {
+    return fail("--radius: must be a positive length, got " + std::to_string(radius));
+  }
+  if (!(std::isfinite(origin_offset) && origin_offset >= 0.0f)) {
+    return fail("--offset: must be a length >= 0, got " + std::to_string(origin_offset));
+  }
+  return ShadowRays{std::move(pattern), radius, origin_offset};
+}
+
+/// The default origin offset: 1e-4 of the scene's bounding-box diagonal (DESIGN.md section 1).
+inline constexpr float kDefaultOffsetFraction = 1e-4f;
+
+}  // namespace exao

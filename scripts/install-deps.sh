@@ -1,0 +1,22 @@
+#!/usr/bin/env bash
+# Installs exao's build and test dependencies from Debian bookworm's packages.
+# Idempotent: apt-get skips what is already installed. Run as root.
+set -euo pipefail
+
+packages=(
+  build-essential cmake ninja-build pkg-config
+  libembree-dev libtbb-dev libglm-dev libopenexr-dev libtinygltf-dev nlohmann-json3-dev
+  libcgal-dev libgmp-dev libmpfr-dev libboost-dev
+  libpng-dev libcli11-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  export DEBIAN_FRONTEND=noninteractive
+  apt-get update -qq
+  apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
