@@ -186,10 +186,10 @@ Result<std::vector<double>> read_accessor(const tinygltf::Model& model, int inde
     return fail(name + " has " + std::to_string(acc.count) + " elements and no buffer view");
   }
 
-  // Without a buffer view the base values are zeros (glTF 2.0 section 3.6.2.3).
-  std::vector<double> values(acc.count * n, 0.0);
-  if (acc.bufferView >= 0 && acc.count > 0) {
-    std::size_t stride = element;
+  // The bytes are checked before anything is allocated, so a hostile count fails here.
+  const unsigned char* base = nullptr;
+  std::size_t stride = element;
+  if (acc.bufferView >= 0) {
     if (static_cast<std::size_t>(acc.bufferView) < model.bufferViews.size()) {
       const std::size_t given = model.bufferViews[static_cast<std::size_t>(acc.bufferView)].byteStride;
       if (given != 0) stride = given;
@@ -200,8 +200,14 @@ Result<std::vector<double>> read_accessor(const tinygltf::Model& model, int inde
     }
     auto bytes = view_bytes(model, acc.bufferView, acc.byteOffset, acc.count, stride, element, name);
     if (!bytes) return std::unexpected(bytes.error());
+    base = *bytes;
+  }
+
+  // Without a buffer view the base values are zeros (glTF 2.0 section 3.6.2.3).
+  std::vector<double> values(acc.count * n, 0.0);
+  if (base != nullptr) {
     for (std::size_t i = 0; i < acc.count; ++i) {
-      const unsigned char* p = *bytes + i * stride;
+      const unsigned char* p = base + i * stride;
       for (std::size_t c = 0; c < n; ++c) {
         values[i * n + c] = read_component(p + c * size, acc.componentType, acc.normalized);
       }

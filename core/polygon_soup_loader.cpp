@@ -97,6 +97,47 @@ std::string explain_obj_failure(const std::string& path) {
   return "not a readable OBJ file";
 }
 
+// CGAL's OFF reader sizes its arrays from the header's counts before reading a vertex, so a
+// corrupt count could ask for gigabytes. Every vertex and face takes at least one byte, so
+// counts beyond the file's size are impossible and are refused here. Only the plain text
+// header ("[ST][C][N][4]OFF", comments, then the counts) is checked; other layouts are left
+// to CGAL.
+std::string implausible_off_counts(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::vector<std::string> tokens;
+  std::string line;
+  while (tokens.size() < 4 && std::getline(in, line)) {
+    std::istringstream iss(line.substr(0, line.find('#')));
+    std::string token;
+    while (tokens.size() < 4 && iss >> token) tokens.push_back(token);
+  }
+  std::size_t first = 0;
+  if (!tokens.empty() && tokens[0].ends_with("OFF")) {
+    if (tokens[0].find('n') != std::string::npos) return {};  // nOFF: a dimension comes next
+    first = 1;
+  }
+  if (tokens.size() < first + 2) return {};
+  long long vertices = 0;
+  long long faces = 0;
+  try {
+    std::size_t used = 0;
+    vertices = std::stoll(tokens[first], &used);
+    if (used != tokens[first].size()) return {};
+    faces = std::stoll(tokens[first + 1], &used);
+    if (used != tokens[first + 1].size()) return {};
+  } catch (const std::exception&) {
+    return {};  // "BINARY" or something else CGAL will judge
+  }
+  std::error_code ec;
+  const auto size = static_cast<long long>(std::filesystem::file_size(path, ec));
+  if (ec) return {};
+  if (vertices < 0 || faces < 0 || vertices > size || faces > size) {
+    return "header claims " + std::to_string(vertices) + " vertices and " + std::to_string(faces) +
+           " faces, more than the file's " + std::to_string(size) + " bytes can hold";
+  }
+  return {};
+}
+
 Result<Scene> load(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) return fail("no such file");
@@ -105,16 +146,20 @@ Result<Scene> load(const std::string& path) {
     return fail("not an OBJ, PLY, OFF or STL file");
   }
 
+  if (ext == ".off") {
+    if (std::string problem = implausible_off_counts(path); !problem.empty()) return fail(problem);
+  }
+
   std::vector<Point> points;
   std::vector<Polygon> polygons;
   const bool ok =
       CGAL::IO::read_polygon_soup(path, points, polygons, CGAL::parameters::verbose(false));
   if (!ok) {
     if (ext == ".obj") return fail(explain_obj_failure(path));
-    if (points.empty() || polygons.empty()) {
-      return fail("not a readable " + ext.substr(1) + " file, or it has no faces");
-    }
-    return fail("not a readable " + ext.substr(1) + " file");
+    std::string format = ext.substr(1);
+    for (char& c : format) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    if (points.empty() || polygons.empty()) return fail("not a readable " + format + " file, or it has no faces");
+    return fail("not a readable " + format + " file");
   }
 
   // CGAL checks OBJ indices loosely (one past the end passes) and PLY/OFF indices not at all.
