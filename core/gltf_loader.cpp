@@ -48,9 +48,10 @@ constexpr std::array kPositionTypes{kFloat, kByte, kUnsignedByte, kShort, kUnsig
 constexpr std::array kFloatOnly{kFloat};
 constexpr std::array kRotationTypes{kFloat, kByte, kShort};
 
-// An accessor without a buffer view has no bytes to bound its count; this caps what a
-// malformed file can make us allocate (2^28 elements is far beyond any real mesh).
-constexpr std::size_t kMaxViewlessCount = std::size_t{1} << 28;
+// An accessor without a buffer view (zeros plus sparse values) has no bytes to bound its
+// count; this caps what a malformed file can make us allocate. 2^24 elements (16.7 million
+// vertices, 400 MB decoded as VEC3 doubles) is far beyond any real sparse-only accessor.
+constexpr std::size_t kMaxViewlessCount = std::size_t{1} << 24;
 
 // Joins tinygltf's multi-line messages into one short line.
 std::string one_line(std::string_view text) {
@@ -71,12 +72,16 @@ std::string one_line(std::string_view text) {
 int component_size(int component_type) {
   switch (component_type) {
     case kByte:
-    case kUnsignedByte: return 1;
+    case kUnsignedByte:
+      return 1;
     case kShort:
-    case kUnsignedShort: return 2;
+    case kUnsignedShort:
+      return 2;
     case kUnsignedInt:
-    case kFloat: return 4;
-    default: return 0;
+    case kFloat:
+      return 4;
+    default:
+      return 0;
   }
 }
 
@@ -129,9 +134,8 @@ bool fits(std::size_t offset, std::size_t count, std::size_t stride, std::size_t
 // The first byte of `count` elements inside buffer view `view_index`, after checking that
 // they lie inside the view and the view inside its buffer.
 Result<const unsigned char*> view_bytes(const tinygltf::Model& model, int view_index,
-                                        std::size_t offset, std::size_t count,
-                                        std::size_t stride, std::size_t element,
-                                        const std::string& what) {
+                                        std::size_t offset, std::size_t count, std::size_t stride,
+                                        std::size_t element, const std::string& what) {
   if (view_index < 0 || static_cast<std::size_t>(view_index) >= model.bufferViews.size()) {
     return fail(what + " refers to buffer view " + std::to_string(view_index) + ", file has " +
                 std::to_string(model.bufferViews.size()));
@@ -139,10 +143,10 @@ Result<const unsigned char*> view_bytes(const tinygltf::Model& model, int view_i
   const tinygltf::BufferView& view = model.bufferViews[static_cast<std::size_t>(view_index)];
   if (view.buffer < 0 || static_cast<std::size_t>(view.buffer) >= model.buffers.size()) {
     return fail("buffer view " + std::to_string(view_index) + " refers to buffer " +
-                std::to_string(view.buffer) + ", file has " +
-                std::to_string(model.buffers.size()));
+                std::to_string(view.buffer) + ", file has " + std::to_string(model.buffers.size()));
   }
-  const std::vector<unsigned char>& data = model.buffers[static_cast<std::size_t>(view.buffer)].data;
+  const std::vector<unsigned char>& data =
+      model.buffers[static_cast<std::size_t>(view.buffer)].data;
   if (!fits(view.byteOffset, 1, 0, view.byteLength, data.size())) {
     return fail("buffer view " + std::to_string(view_index) + " (bytes " +
                 std::to_string(view.byteOffset) + "+" + std::to_string(view.byteLength) +
@@ -151,8 +155,8 @@ Result<const unsigned char*> view_bytes(const tinygltf::Model& model, int view_i
   }
   if (!fits(offset, count, stride, element, view.byteLength)) {
     return fail(what + " (" + std::to_string(count) + " elements from byte " +
-                std::to_string(offset) + ") exceeds its buffer view " +
-                std::to_string(view_index) + " (" + std::to_string(view.byteLength) + " bytes)");
+                std::to_string(offset) + ") exceeds its buffer view " + std::to_string(view_index) +
+                " (" + std::to_string(view.byteLength) + " bytes)");
   }
   return data.data() + view.byteOffset + offset;
 }
@@ -161,9 +165,9 @@ Result<const unsigned char*> view_bytes(const tinygltf::Model& model, int view_i
 // byteStride honoured and any sparse substitution applied. `allowed` lists the component
 // types this use accepts; anything else is an error, as is a type of another width, or
 // `normalized` where the use forbids it (indices).
-Result<std::vector<double>> read_accessor(const tinygltf::Model& model, int index,
-                                          int components, std::span<const int> allowed,
-                                          bool may_normalize, const std::string& what) {
+Result<std::vector<double>> read_accessor(const tinygltf::Model& model, int index, int components,
+                                          std::span<const int> allowed, bool may_normalize,
+                                          const std::string& what) {
   if (index < 0 || static_cast<std::size_t>(index) >= model.accessors.size()) {
     return fail(what + " refers to accessor " + std::to_string(index) + ", file has " +
                 std::to_string(model.accessors.size()));
@@ -171,9 +175,10 @@ Result<std::vector<double>> read_accessor(const tinygltf::Model& model, int inde
   const tinygltf::Accessor& acc = model.accessors[static_cast<std::size_t>(index)];
   const std::string name = "accessor " + std::to_string(index) + " (" + what + ")";
   if (tinygltf::GetNumComponentsInType(static_cast<std::uint32_t>(acc.type)) != components) {
-    return fail(name + " has " +
-                std::to_string(tinygltf::GetNumComponentsInType(static_cast<std::uint32_t>(acc.type))) +
-                " components, expected " + std::to_string(components));
+    return fail(
+        name + " has " +
+        std::to_string(tinygltf::GetNumComponentsInType(static_cast<std::uint32_t>(acc.type))) +
+        " components, expected " + std::to_string(components));
   }
   if (std::find(allowed.begin(), allowed.end(), acc.componentType) == allowed.end()) {
     return fail(name + " has unsupported component type " + std::to_string(acc.componentType));
@@ -191,14 +196,16 @@ Result<std::vector<double>> read_accessor(const tinygltf::Model& model, int inde
   std::size_t stride = element;
   if (acc.bufferView >= 0) {
     if (static_cast<std::size_t>(acc.bufferView) < model.bufferViews.size()) {
-      const std::size_t given = model.bufferViews[static_cast<std::size_t>(acc.bufferView)].byteStride;
+      const std::size_t given =
+          model.bufferViews[static_cast<std::size_t>(acc.bufferView)].byteStride;
       if (given != 0) stride = given;
     }
     if (stride < element) {
       return fail(name + ": byteStride " + std::to_string(stride) + " is less than an element (" +
                   std::to_string(element) + " bytes)");
     }
-    auto bytes = view_bytes(model, acc.bufferView, acc.byteOffset, acc.count, stride, element, name);
+    auto bytes =
+        view_bytes(model, acc.bufferView, acc.byteOffset, acc.count, stride, element, name);
     if (!bytes) return std::unexpected(bytes.error());
     base = *bytes;
   }
@@ -240,15 +247,15 @@ Result<std::vector<double>> read_accessor(const tinygltf::Model& model, int inde
                                   sparse_count, element, element, name + " sparse values");
     if (!value_bytes) return std::unexpected(value_bytes.error());
     for (std::size_t i = 0; i < sparse_count; ++i) {
-      const auto target =
-          static_cast<std::size_t>(read_component(*index_bytes + i * index_size, index_type, false));
+      const auto target = static_cast<std::size_t>(
+          read_component(*index_bytes + i * index_size, index_type, false));
       if (target >= acc.count) {
         return fail(name + ": sparse index " + std::to_string(target) + " >= count " +
                     std::to_string(acc.count));
       }
       for (std::size_t c = 0; c < n; ++c) {
-        values[target * n + c] =
-            read_component(*value_bytes + i * element + c * size, acc.componentType, acc.normalized);
+        values[target * n + c] = read_component(*value_bytes + i * element + c * size,
+                                                acc.componentType, acc.normalized);
       }
     }
   }
@@ -259,7 +266,10 @@ Result<std::vector<double>> read_accessor(const tinygltf::Model& model, int inde
 Result<glm::dmat4> local_transform(const tinygltf::Node& node, int index) {
   const std::string name = "node " + std::to_string(index);
   if (!node.matrix.empty()) {
-    if (node.matrix.size() != 16) return fail(name + ": matrix has " + std::to_string(node.matrix.size()) + " numbers, expected 16");
+    if (node.matrix.size() != 16) {
+      return fail(name + ": matrix has " + std::to_string(node.matrix.size()) +
+                  " numbers, expected 16");
+    }
     return glm::make_mat4(node.matrix.data());  // column-major, as glTF stores it
   }
   glm::dmat4 m(1.0);
@@ -291,10 +301,6 @@ struct DecodedPrimitive {
   std::int32_t material = -1;
 };
 
-struct DecodedMesh {
-  std::vector<DecodedPrimitive> primitives;
-};
-
 // Points and lines (modes 0-3) are skipped; strips and fans become triangles that keep the
 // strip's orientation (glTF 2.0 section 3.7.2.1 gives these vertex orders).
 Result<std::vector<DecodedPrimitive>> decode_mesh(const tinygltf::Model& model, int mesh_index,
@@ -303,7 +309,8 @@ Result<std::vector<DecodedPrimitive>> decode_mesh(const tinygltf::Model& model, 
   std::vector<DecodedPrimitive> out;
   for (std::size_t p = 0; p < mesh.primitives.size(); ++p) {
     const tinygltf::Primitive& prim = mesh.primitives[p];
-    const std::string where = "mesh " + std::to_string(mesh_index) + " primitive " + std::to_string(p);
+    const std::string where =
+        "mesh " + std::to_string(mesh_index) + " primitive " + std::to_string(p);
     if (prim.mode >= TINYGLTF_MODE_POINTS && prim.mode <= TINYGLTF_MODE_LINE_STRIP) {
       ++report.primitives_skipped;
       continue;
@@ -326,7 +333,8 @@ Result<std::vector<DecodedPrimitive>> decode_mesh(const tinygltf::Model& model, 
     }
 
     DecodedPrimitive decoded;
-    auto positions = read_accessor(model, position->second, 3, kPositionTypes, true, where + " POSITION");
+    auto positions =
+        read_accessor(model, position->second, 3, kPositionTypes, true, where + " POSITION");
     if (!positions) return std::unexpected(positions.error());
     decoded.positions = std::move(*positions);
     const std::size_t vertex_count = decoded.positions.size() / 3;
@@ -344,7 +352,9 @@ Result<std::vector<DecodedPrimitive>> decode_mesh(const tinygltf::Model& model, 
         order.push_back(static_cast<std::uint32_t>(i));
       }
     } else {
-      if (vertex_count > std::numeric_limits<std::uint32_t>::max()) return fail(where + ": too many vertices");
+      if (vertex_count > std::numeric_limits<std::uint32_t>::max()) {
+        return fail(where + ": too many vertices");
+      }
       order.resize(vertex_count);
       for (std::size_t i = 0; i < vertex_count; ++i) order[i] = static_cast<std::uint32_t>(i);
     }
@@ -352,7 +362,9 @@ Result<std::vector<DecodedPrimitive>> decode_mesh(const tinygltf::Model& model, 
     const std::size_t n = order.size();
     std::vector<std::uint32_t>& c = decoded.corners;
     if (prim.mode == TINYGLTF_MODE_TRIANGLES) {
-      if (n % 3 != 0) report.notes.push_back(where + ": " + std::to_string(n % 3) + " trailing vertices ignored");
+      if (n % 3 != 0) {
+        report.notes.push_back(where + ": " + std::to_string(n % 3) + " trailing vertices ignored");
+      }
       c.assign(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(n - n % 3));
     } else if (n >= 3) {
       c.reserve(3 * (n - 2));
@@ -369,8 +381,8 @@ Result<std::vector<DecodedPrimitive>> decode_mesh(const tinygltf::Model& model, 
 
     if (prim.material >= 0) {
       if (static_cast<std::size_t>(prim.material) >= model.materials.size()) {
-        return fail(where + " refers to material " + std::to_string(prim.material) +
-                    ", file has " + std::to_string(model.materials.size()));
+        return fail(where + " refers to material " + std::to_string(prim.material) + ", file has " +
+                    std::to_string(model.materials.size()));
       }
       decoded.material = prim.material;
       decoded.two_sided = model.materials[static_cast<std::size_t>(prim.material)].doubleSided;
@@ -402,8 +414,10 @@ Result<std::vector<glm::dmat4>> instance_transforms(const tinygltf::Model& model
     if (!attributes.Has(names[k])) continue;
     const tinygltf::Value& v = attributes.Get(names[k]);
     if (!v.IsNumber()) return fail(where + " " + names[k] + " is not an accessor index");
-    const std::span<const int> types = k == 1 ? std::span<const int>(kRotationTypes) : std::span<const int>(kFloatOnly);
-    auto values = read_accessor(model, v.GetNumberAsInt(), widths[k], types, true, where + " " + names[k]);
+    const std::span<const int> types =
+        k == 1 ? std::span<const int>(kRotationTypes) : std::span<const int>(kFloatOnly);
+    auto values =
+        read_accessor(model, v.GetNumberAsInt(), widths[k], types, true, where + " " + names[k]);
     if (!values) return std::unexpected(values.error());
     const std::size_t rows = values->size() / static_cast<std::size_t>(widths[k]);
     if (any && rows != count) return fail(where + ": attributes have different counts");
@@ -432,11 +446,12 @@ Result<std::vector<glm::dmat4>> instance_transforms(const tinygltf::Model& model
 void add_camera(const tinygltf::Model& model, const tinygltf::Node& node, const glm::dmat4& world,
                 Scene& scene) {
   const tinygltf::Camera& cam = model.cameras[static_cast<std::size_t>(node.camera)];
-  const std::string name = !cam.name.empty() ? cam.name
+  const std::string name = !cam.name.empty()    ? cam.name
                            : !node.name.empty() ? node.name
                                                 : "camera " + std::to_string(node.camera);
   if (cam.type != "perspective") {
-    scene.report.notes.push_back("camera '" + name + "' is " + cam.type + ": skipped (perspective only)");
+    scene.report.notes.push_back("camera '" + name + "' is " + cam.type +
+                                 ": skipped (perspective only)");
     return;
   }
   const glm::dmat3 basis(world);
@@ -456,7 +471,8 @@ void add_camera(const tinygltf::Model& model, const tinygltf::Node& node, const 
     return;
   }
   if (!(yfov > 0.0 && yfov < glm::pi<double>())) {
-    scene.report.notes.push_back("camera '" + name + "' has yfov " + std::to_string(yfov) + ": skipped");
+    scene.report.notes.push_back("camera '" + name + "' has yfov " + std::to_string(yfov) +
+                                 ": skipped");
     return;
   }
   Camera camera;
@@ -465,7 +481,9 @@ void add_camera(const tinygltf::Model& model, const tinygltf::Node& node, const 
   camera.forward = glm::vec3(f);
   camera.up = glm::vec3(u_raw / up_length);
   camera.yfov = static_cast<float>(yfov);
-  if (cam.perspective.aspectRatio > 0.0) camera.aspect = static_cast<float>(cam.perspective.aspectRatio);
+  if (cam.perspective.aspectRatio > 0.0) {
+    camera.aspect = static_cast<float>(cam.perspective.aspectRatio);
+  }
   scene.cameras.push_back(std::move(camera));
 }
 
@@ -518,7 +536,9 @@ Result<std::vector<int>> root_nodes(const tinygltf::Model& model) {
   std::vector<bool> is_child(model.nodes.size(), false);
   for (const tinygltf::Node& node : model.nodes) {
     for (const int c : node.children) {
-      if (c >= 0 && static_cast<std::size_t>(c) < is_child.size()) is_child[static_cast<std::size_t>(c)] = true;
+      if (c >= 0 && static_cast<std::size_t>(c) < is_child.size()) {
+        is_child[static_cast<std::size_t>(c)] = true;
+      }
     }
   }
   std::vector<int> roots;
@@ -543,7 +563,9 @@ Result<Scene> build_scene(const tinygltf::Model& model) {
     glm::dmat4 parent;
   };
   std::vector<Visit> stack;
-  for (auto it = roots->rbegin(); it != roots->rend(); ++it) stack.push_back({*it, glm::dmat4(1.0)});
+  for (auto it = roots->rbegin(); it != roots->rend(); ++it) {
+    stack.push_back({*it, glm::dmat4(1.0)});
+  }
   std::vector<bool> visited(model.nodes.size(), false);
   while (!stack.empty()) {
     const Visit visit = stack.back();
@@ -554,7 +576,9 @@ Result<Scene> build_scene(const tinygltf::Model& model) {
     }
     const auto index = static_cast<std::size_t>(visit.node);
     // glTF node hierarchies are strict trees; a node reached twice means a cycle.
-    if (visited[index]) return fail("node " + std::to_string(visit.node) + " is reached twice in the node tree");
+    if (visited[index]) {
+      return fail("node " + std::to_string(visit.node) + " is reached twice in the node tree");
+    }
     visited[index] = true;
     const tinygltf::Node& node = model.nodes[index];
     auto local = local_transform(node, visit.node);
@@ -564,14 +588,16 @@ Result<Scene> build_scene(const tinygltf::Model& model) {
     if (node.camera >= 0) {
       if (static_cast<std::size_t>(node.camera) >= model.cameras.size()) {
         return fail("node " + std::to_string(visit.node) + " refers to camera " +
-                    std::to_string(node.camera) + ", file has " + std::to_string(model.cameras.size()));
+                    std::to_string(node.camera) + ", file has " +
+                    std::to_string(model.cameras.size()));
       }
       add_camera(model, node, world, scene);
     }
     if (node.mesh >= 0) {
       if (static_cast<std::size_t>(node.mesh) >= model.meshes.size()) {
         return fail("node " + std::to_string(visit.node) + " refers to mesh " +
-                    std::to_string(node.mesh) + ", file has " + std::to_string(model.meshes.size()));
+                    std::to_string(node.mesh) + ", file has " +
+                    std::to_string(model.meshes.size()));
       }
       auto found = meshes.find(node.mesh);
       if (found == meshes.end()) {
@@ -586,7 +612,9 @@ Result<Scene> build_scene(const tinygltf::Model& model) {
         for (const DecodedPrimitive& prim : found->second) emit(prim, world * instance, scene);
       }
     }
-    for (auto it = node.children.rbegin(); it != node.children.rend(); ++it) stack.push_back({*it, world});
+    for (auto it = node.children.rbegin(); it != node.children.rend(); ++it) {
+      stack.push_back({*it, world});
+    }
   }
 
   if (scene.report.primitives_skipped > 0) {
@@ -594,8 +622,9 @@ Result<Scene> build_scene(const tinygltf::Model& model) {
                                  " point/line primitive uses skipped (AO needs triangles)");
   }
   if (skinned > 0) {
-    scene.report.notes.push_back(std::to_string(skinned) +
-                                 " skinned mesh node(s) drawn in their bind pose (skinning is not applied)");
+    scene.report.notes.push_back(
+        std::to_string(skinned) +
+        " skinned mesh node(s) drawn in their bind pose (skinning is not applied)");
   }
   if (scene.triangle_count() == 0) return fail("no triangles");
   return scene;

@@ -35,11 +35,12 @@ std::string lowercase_extension(const std::string& path) {
 // The OBJ statements CGAL 5.5's reader accepts and ignores (CGAL/IO/OBJ.h); any other, such
 // as `l` (a polyline), makes it refuse the whole file.
 constexpr std::array<std::string_view, 45> kObjIgnored{
-    "vt", "vn", "vp", "bevel", "lod", "ctech", "c_interp", "usemap", "usemtl", "stech",
-    "d_interp", "mtllib", "shadow_obj", "trace_obj", "o", "g", "s", "p", "cstype", "deg",
-    "step", "bmat", "con", "curv", "curv2", "surf", "parm", "trim", "hole", "scrv", "sp",
-    "end", "surf_1", "q0_1", "q1_1", "curv2d_1", "surf_2", "q0_2", "q1_2", "curv2d_2", "bsp",
-    "bzp", "cdc", "cdp", "res"};
+    "vt",     "vn",    "vp",       "bevel",    "lod",        "ctech",     "c_interp", "usemap",
+    "usemtl", "stech", "d_interp", "mtllib",   "shadow_obj", "trace_obj", "o",        "g",
+    "s",      "p",     "cstype",   "deg",      "step",       "bmat",      "con",      "curv",
+    "curv2",  "surf",  "parm",     "trim",     "hole",       "scrv",      "sp",       "end",
+    "surf_1", "q0_1",  "q1_1",     "curv2d_1", "surf_2",     "q0_2",      "q1_2",     "curv2d_2",
+    "bsp",    "bzp",   "cdc",      "cdp",      "res"};
 
 // CGAL's reader says only "false" when it refuses a file (its verbose mode prints to stderr,
 // which library code must not do). For OBJ, the most common hand-made format, this scan finds
@@ -98,11 +99,11 @@ std::string explain_obj_failure(const std::string& path) {
 }
 
 // CGAL's OFF reader sizes its arrays from the header's counts before reading a vertex, so a
-// corrupt count could ask for gigabytes. Every vertex and face takes at least one byte, so
-// counts beyond the file's size are impossible and are refused here. Only the plain text
-// header ("[ST][C][N][4]OFF", comments, then the counts) is checked; other layouts are left
-// to CGAL.
-std::string implausible_off_counts(const std::string& path) {
+// corrupt count could ask for gigabytes (and its edge count is doubled in an int). Every
+// vertex, face and edge takes at least one byte, so counts beyond the file's size are
+// impossible and are refused here. Only the plain text header ("[ST][C][N][4]OFF", comments,
+// then the counts) is checked; other layouts are left to CGAL.
+std::string off_header_problem(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   std::vector<std::string> tokens;
   std::string line;
@@ -116,26 +117,54 @@ std::string implausible_off_counts(const std::string& path) {
     if (tokens[0].find('n') != std::string::npos) return {};  // nOFF: a dimension comes next
     first = 1;
   }
-  if (tokens.size() < first + 2) return {};
-  long long vertices = 0;
-  long long faces = 0;
-  try {
-    std::size_t used = 0;
-    vertices = std::stoll(tokens[first], &used);
-    if (used != tokens[first].size()) return {};
-    faces = std::stoll(tokens[first + 1], &used);
-    if (used != tokens[first + 1].size()) return {};
-  } catch (const std::exception&) {
-    return {};  // "BINARY" or something else CGAL will judge
-  }
   std::error_code ec;
   const auto size = static_cast<long long>(std::filesystem::file_size(path, ec));
   if (ec) return {};
-  if (vertices < 0 || faces < 0 || vertices > size || faces > size) {
-    return "header claims " + std::to_string(vertices) + " vertices and " + std::to_string(faces) +
-           " faces, more than the file's " + std::to_string(size) + " bytes can hold";
+  for (std::size_t i = first; i < tokens.size() && i < first + 3; ++i) {
+    long long count = 0;
+    std::size_t used = 0;
+    try {
+      count = std::stoll(tokens[i], &used);
+    } catch (const std::exception&) {
+      return {};  // "BINARY", or something else for CGAL to judge
+    }
+    if (used != tokens[i].size()) return {};
+    if (count < 0 || count > size) {
+      return "header count " + tokens[i] + " does not fit in a file of " + std::to_string(size) +
+             " bytes";
+    }
   }
   return {};
+}
+
+// CGAL 5.5's PLY reader attaches each `property` line to the last `element` line without
+// checking there is one (a garbled header makes it crash), so the header's shape is checked
+// first: "ply", a format line, properties only after an element, and an end_header.
+std::string ply_header_problem(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  bool element_seen = false;
+  // A real header is a few dozen lines; this bounds the scan of a file that has no end_header.
+  constexpr std::size_t kMaxHeaderLines = 10'000;
+  for (std::size_t number = 1; number <= kMaxHeaderLines && std::getline(in, line); ++number) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    std::istringstream iss(line);
+    std::string keyword;
+    iss >> keyword;
+    const std::string where = "header line " + std::to_string(number);
+    if (number == 1) {
+      if (keyword != "ply") return "not a PLY file (no 'ply' signature)";
+    } else if (number == 2) {
+      if (keyword != "format") return where + ": expected 'format'";
+    } else if (keyword == "element") {
+      element_seen = true;
+    } else if (keyword == "property") {
+      if (!element_seen) return where + ": property before any element";
+    } else if (keyword == "end_header") {
+      return {};
+    }
+  }
+  return "PLY header has no end_header";
 }
 
 Result<Scene> load(const std::string& path) {
@@ -146,9 +175,10 @@ Result<Scene> load(const std::string& path) {
     return fail("not an OBJ, PLY, OFF or STL file");
   }
 
-  if (ext == ".off") {
-    if (std::string problem = implausible_off_counts(path); !problem.empty()) return fail(problem);
-  }
+  const std::string problem = ext == ".off"   ? off_header_problem(path)
+                              : ext == ".ply" ? ply_header_problem(path)
+                                              : std::string();
+  if (!problem.empty()) return fail(problem);
 
   std::vector<Point> points;
   std::vector<Polygon> polygons;
@@ -158,7 +188,9 @@ Result<Scene> load(const std::string& path) {
     if (ext == ".obj") return fail(explain_obj_failure(path));
     std::string format = ext.substr(1);
     for (char& c : format) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-    if (points.empty() || polygons.empty()) return fail("not a readable " + format + " file, or it has no faces");
+    if (points.empty() || polygons.empty()) {
+      return fail("not a readable " + format + " file, or it has no faces");
+    }
     return fail("not a readable " + format + " file");
   }
 
@@ -187,7 +219,8 @@ Result<Scene> load(const std::string& path) {
   scene.material.reserve(triangles);
   const auto at = [&](std::size_t i) {
     const Point& p = points[i];
-    return glm::vec3(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
+    return glm::vec3(static_cast<float>(p.x()), static_cast<float>(p.y()),
+                     static_cast<float>(p.z()));
   };
   for (const Polygon& polygon : polygons) {
     if (polygon.size() < 3) {
@@ -201,7 +234,8 @@ Result<Scene> load(const std::string& path) {
     }
   }
   if (too_small > 0) {
-    scene.report.notes.push_back(std::to_string(too_small) + " faces with fewer than 3 vertices skipped");
+    scene.report.notes.push_back(std::to_string(too_small) +
+                                 " faces with fewer than 3 vertices skipped");
   }
   if (scene.triangle_count() == 0) return fail("no triangles");
   return scene;

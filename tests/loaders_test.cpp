@@ -10,9 +10,10 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <limits>
-#include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -93,8 +94,8 @@ class GltfWriter {
                const std::string& extra = "") {
     std::string a = "{";
     if (view_index >= 0) a += "\"bufferView\":" + std::to_string(view_index) + ",";
-    a += "\"componentType\":" + std::to_string(component_type) + ",\"count\":" +
-         std::to_string(count) + ",\"type\":\"" + type + "\"" + extra + "}";
+    a += "\"componentType\":" + std::to_string(component_type) +
+         ",\"count\":" + std::to_string(count) + ",\"type\":\"" + type + "\"" + extra + "}";
     accessors_.push_back(a);
     return static_cast<int>(accessors_.size()) - 1;
   }
@@ -161,7 +162,8 @@ class GltfWriter {
 
 // The members of a file with one mesh of the given primitives, drawn by one node per entry of
 // `nodes` (each a JSON node object without "mesh", which is added).
-std::string one_mesh(const std::string& primitives, const std::vector<std::string>& nodes = {"{}"}) {
+std::string one_mesh(const std::string& primitives,
+                     const std::vector<std::string>& nodes = {"{}"}) {
   std::string node_list;
   std::string root_list;
   for (std::size_t i = 0; i < nodes.size(); ++i) {
@@ -225,8 +227,8 @@ void expect_near(const glm::vec3& actual, const glm::vec3& expected, float toler
 
 struct RealScene {
   const char* path;
-  std::size_t triangles;   // SOURCES.md: scene count, before zero-area triangles are dropped
-  std::size_t zero_area;   // counted independently (see each value's comment)
+  std::size_t triangles;  // SOURCES.md: scene count, before zero-area triangles are dropped
+  std::size_t zero_area;  // counted independently (see each value's comment)
 };
 
 // Zero-area counts: Conference's 53,627 is SOURCES.md's; 2CylinderEngine's 11,160 was counted by
@@ -319,8 +321,9 @@ TEST(RealScenes, BunnyBoundsMatchItsVertices) {
 }
 
 TEST(RealScenes, BoxIsTheUnitCubeFacingOutward) {
-  for (const char* relative : {"Box/glTF/Box.gltf", "Box/glTF-Binary/Box.glb",
-                               "Box/glTF-Embedded/Box.gltf", "BoxInterleaved/glTF/BoxInterleaved.gltf"}) {
+  for (const char* relative :
+       {"Box/glTF/Box.gltf", "Box/glTF-Binary/Box.glb", "Box/glTF-Embedded/Box.gltf",
+        "BoxInterleaved/glTF/BoxInterleaved.gltf"}) {
     const std::filesystem::path path = real_scene(relative);
     EXAO_REQUIRE_SCENE(path);
     const Result<Scene> scene = load_scene(path.string());
@@ -330,13 +333,15 @@ TEST(RealScenes, BoxIsTheUnitCubeFacingOutward) {
     expect_near(scene->bounds().hi, glm::vec3(0.5f));
     for (std::size_t t = 0; t < scene->triangle_count(); ++t) {
       const auto [a, b, c] = scene->triangle(t);
-      EXPECT_GT(glm::dot(normal(*scene, t), (a + b + c) / 3.0f), 0.0f) << relative << " triangle " << t;
+      EXPECT_GT(glm::dot(normal(*scene, t), (a + b + c) / 3.0f), 0.0f)
+          << relative << " triangle " << t;
     }
   }
 }
 
 TEST(RealScenes, TrianglesHaveTheirKnownVertices) {
-  for (const char* relative : {"Triangle/glTF/Triangle.gltf", "TriangleWithoutIndices/glTF/TriangleWithoutIndices.gltf"}) {
+  for (const char* relative :
+       {"Triangle/glTF/Triangle.gltf", "TriangleWithoutIndices/glTF/TriangleWithoutIndices.gltf"}) {
     const std::filesystem::path path = real_scene(relative);
     EXAO_REQUIRE_SCENE(path);
     const Result<Scene> scene = load_scene(path.string());
@@ -356,8 +361,10 @@ TEST(RealScenes, GlbAndGltfVariantsAgree) {
       {"Box/glTF/Box.gltf", "Box/glTF-Binary/Box.glb"},
       {"Duck/glTF/Duck.gltf", "Duck/glTF-Binary/Duck.glb"},
       {"Fox/glTF/Fox.gltf", "Fox/glTF-Binary/Fox.glb"},
-      {"NegativeScaleTest/glTF/NegativeScaleTest.gltf", "NegativeScaleTest/glTF-Binary/NegativeScaleTest.glb"},
-      {"SimpleInstancing/glTF/SimpleInstancing.gltf", "SimpleInstancing/glTF-Binary/SimpleInstancing.glb"},
+      {"NegativeScaleTest/glTF/NegativeScaleTest.gltf",
+       "NegativeScaleTest/glTF-Binary/NegativeScaleTest.glb"},
+      {"SimpleInstancing/glTF/SimpleInstancing.gltf",
+       "SimpleInstancing/glTF-Binary/SimpleInstancing.glb"},
   }};
   for (const auto& [gltf, glb] : pairs) {
     const std::filesystem::path a = real_scene(gltf);
@@ -414,7 +421,8 @@ TEST(RealScenes, DuckCameraFollowsItsNode) {
 }
 
 TEST(RealScenes, SparseAccessorMovesThreeVertices) {
-  const std::filesystem::path path = real_scene("SimpleSparseAccessor/glTF/SimpleSparseAccessor.gltf");
+  const std::filesystem::path path =
+      real_scene("SimpleSparseAccessor/glTF/SimpleSparseAccessor.gltf");
   EXAO_REQUIRE_SCENE(path);
   const Result<Scene> scene = load_scene(path.string());
   ASSERT_TRUE(scene.has_value());
@@ -422,7 +430,8 @@ TEST(RealScenes, SparseAccessorMovesThreeVertices) {
   // (1, 2), (3, 3), (5, 4).
   expect_near(scene->bounds().hi, {6, 4, 0});
   for (const glm::vec3 lifted : {glm::vec3(1, 2, 0), glm::vec3(3, 3, 0), glm::vec3(5, 4, 0)}) {
-    EXPECT_NE(std::find(scene->vertices.begin(), scene->vertices.end(), lifted), scene->vertices.end());
+    EXPECT_NE(std::find(scene->vertices.begin(), scene->vertices.end(), lifted),
+              scene->vertices.end());
   }
 }
 
@@ -447,7 +456,9 @@ TEST(RealScenes, MeshPrimitiveModesSkipsPointsAndLinesAndKeepsWinding) {
   EXPECT_FALSE(scene->report.notes.empty());
   // Every surface in the file lies in z = 0 and faces the viewer at +Z; a strip whose odd
   // triangles kept their raw order would face -Z.
-  for (std::size_t t = 0; t < scene->triangle_count(); ++t) EXPECT_GT(normal(*scene, t).z, 0.0f) << t;
+  for (std::size_t t = 0; t < scene->triangle_count(); ++t) {
+    EXPECT_GT(normal(*scene, t).z, 0.0f) << t;
+  }
 }
 
 TEST(RealScenes, NegativeScaleKeepsSpheresFacingOutward) {
@@ -516,7 +527,8 @@ TEST(Gltf, EveryIndexTypeAndNoIndices) {
     if (type == kUByte) idx = w.indices(std::vector<std::uint8_t>{0, 1, 2}, kUByte);
     if (type == kUShort) idx = w.indices(std::vector<std::uint16_t>{0, 1, 2}, kUShort);
     if (type == kUInt) idx = w.indices(std::vector<std::uint32_t>{0, 1, 2}, kUInt);
-    const auto path = write(dir, std::to_string(type) + ".gltf", w.gltf(one_mesh(primitive(pos, idx))));
+    const auto path =
+        write(dir, std::to_string(type) + ".gltf", w.gltf(one_mesh(primitive(pos, idx))));
     const Result<Scene> scene = load_gltf(path.string());
     ASSERT_TRUE(scene.has_value()) << scene.error().message;
     ASSERT_EQ(scene->triangle_count(), 1u) << type;
@@ -534,7 +546,8 @@ TEST(Gltf, StripsAndFansKeepTheirOrientation) {
   GltfWriter w;
   const int s = w.positions(strip);
   const int f = w.positions(fan);
-  const auto path = write(dir, "modes.gltf", w.gltf(one_mesh(primitive(s, -1, 5) + "," + primitive(f, -1, 6))));
+  const auto path =
+      write(dir, "modes.gltf", w.gltf(one_mesh(primitive(s, -1, 5) + "," + primitive(f, -1, 6))));
   const Result<Scene> scene = load_gltf(path.string());
   ASSERT_TRUE(scene.has_value()) << scene.error().message;
   // n - 2 triangles each: 4 from the strip, 3 from the fan.
@@ -567,7 +580,8 @@ TEST(Gltf, InterleavedByteStride) {
   // Position then a 3-float normal per vertex: stride 24.
   std::vector<float> interleaved;
   for (int v = 0; v < 3; ++v) {
-    interleaved.insert(interleaved.end(), {kTriangle[3 * v], kTriangle[3 * v + 1], kTriangle[3 * v + 2]});
+    interleaved.insert(interleaved.end(),
+                       {kTriangle[3 * v], kTriangle[3 * v + 1], kTriangle[3 * v + 2]});
     interleaved.insert(interleaved.end(), {9.0f, 9.0f, 9.0f});
   }
   GltfWriter w;
@@ -587,21 +601,27 @@ TEST(Gltf, QuantizedPositions) {
   TempDir dir;
   GltfWriter w;
   // Normalized SHORT: 32767 -> 1, -32768 -> -1 (clamped, glTF 2.0 section 3.11).
-  const int a = w.accessor(w.view(bytes(std::vector<std::int16_t>{0, 0, 0, 32767, 0, 0, 0, -32768, 0, 0})),
-                           5122, 3, "VEC3", ",\"normalized\":true");
+  const int a =
+      w.accessor(w.view(bytes(std::vector<std::int16_t>{0, 0, 0, 32767, 0, 0, 0, -32768, 0, 0})),
+                 5122, 3, "VEC3", ",\"normalized\":true");
   // Normalized BYTE with byteStride 4 (VEC3 + padding): 127 -> 1, -128 -> -1 (clamped).
-  const int b = w.accessor(w.view(bytes(std::vector<std::int8_t>{0, 0, 0, 0, 127, 0, 0, 0, 0, -128, 0, 0}), 4),
-                           5120, 3, "VEC3", ",\"normalized\":true");
+  const int b = w.accessor(
+      w.view(bytes(std::vector<std::int8_t>{0, 0, 0, 0, 127, 0, 0, 0, 0, -128, 0, 0}), 4), 5120, 3,
+      "VEC3", ",\"normalized\":true");
   // Plain UNSIGNED_BYTE: the integers themselves.
-  const int c = w.accessor(w.view(bytes(std::vector<std::uint8_t>{0, 0, 0, 0, 200, 0, 0, 0, 0, 200, 0, 0}), 4),
-                           kUByte, 3, "VEC3");
+  const int c = w.accessor(
+      w.view(bytes(std::vector<std::uint8_t>{0, 0, 0, 0, 200, 0, 0, 0, 0, 200, 0, 0}), 4), kUByte,
+      3, "VEC3");
   // Normalized UNSIGNED_SHORT: 65535 -> 1.
-  const int d = w.accessor(w.view(bytes(std::vector<std::uint16_t>{0, 0, 0, 65535, 0, 0, 0, 65535, 0, 0})),
-                           kUShort, 3, "VEC3", ",\"normalized\":true");
-  const std::string prims = primitive(a) + "," + primitive(b) + "," + primitive(c) + "," + primitive(d);
+  const int d =
+      w.accessor(w.view(bytes(std::vector<std::uint16_t>{0, 0, 0, 65535, 0, 0, 0, 65535, 0, 0})),
+                 kUShort, 3, "VEC3", ",\"normalized\":true");
+  const std::string prims =
+      primitive(a) + "," + primitive(b) + "," + primitive(c) + "," + primitive(d);
   const auto path = write(dir, "quantized.gltf",
                           w.gltf("\"extensionsUsed\":[\"KHR_mesh_quantization\"],"
-                                 "\"extensionsRequired\":[\"KHR_mesh_quantization\"]," + one_mesh(prims)));
+                                 "\"extensionsRequired\":[\"KHR_mesh_quantization\"]," +
+                                 one_mesh(prims)));
   const Result<Scene> scene = load_gltf(path.string());
   ASSERT_TRUE(scene.has_value()) << scene.error().message;
   ASSERT_EQ(scene->triangle_count(), 4u);
@@ -620,9 +640,10 @@ TEST(Gltf, SparseAccessorWithoutBufferViewStartsFromZeros) {
   GltfWriter w;
   const int idx = w.view(bytes(std::vector<std::uint16_t>{1, 2}));
   const int val = w.view(bytes(std::vector<float>{1, 0, 0, 0, 1, 0}));
-  const int pos = w.accessor(-1, kFloat, 3, "VEC3",
-                             ",\"sparse\":{\"count\":2,\"indices\":{\"bufferView\":" + std::to_string(idx) +
-                                 ",\"componentType\":5123},\"values\":{\"bufferView\":" + std::to_string(val) + "}}");
+  const int pos = w.accessor(
+      -1, kFloat, 3, "VEC3",
+      ",\"sparse\":{\"count\":2,\"indices\":{\"bufferView\":" + std::to_string(idx) +
+          ",\"componentType\":5123},\"values\":{\"bufferView\":" + std::to_string(val) + "}}");
   const auto path = write(dir, "sparse.gltf", w.gltf(one_mesh(primitive(pos))));
   const Result<Scene> scene = load_gltf(path.string());
   ASSERT_TRUE(scene.has_value()) << scene.error().message;
@@ -639,12 +660,14 @@ TEST(Gltf, NodeTransformsCompose) {
   // Parent: translate (10, 0, 0). Child: rotate 90 degrees about +Z, scale 2. A point p goes to
   // (10, 0, 0) + Rz90 * 2p, so (1, 0, 0) -> (10, 2, 0) and (0, 1, 0) -> (8, 0, 0).
   const double s = std::sqrt(0.5);
-  const std::string members =
-      "\"meshes\":[{\"primitives\":[" + primitive(pos) + "]}],"
-      "\"nodes\":[{\"translation\":[10,0,0],\"children\":[1]},"
-      "{\"mesh\":0,\"rotation\":[0,0," + std::to_string(s) + "," + std::to_string(s) + "],\"scale\":[2,2,2]},"
-      "{\"mesh\":0,\"matrix\":[1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,5,1]}],"
-      "\"scenes\":[{\"nodes\":[0,2]}]";
+  const std::string members = "\"meshes\":[{\"primitives\":[" + primitive(pos) +
+                              "]}],"
+                              "\"nodes\":[{\"translation\":[10,0,0],\"children\":[1]},"
+                              "{\"mesh\":0,\"rotation\":[0,0," +
+                              std::to_string(s) + "," + std::to_string(s) +
+                              "],\"scale\":[2,2,2]},"
+                              "{\"mesh\":0,\"matrix\":[1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,5,1]}],"
+                              "\"scenes\":[{\"nodes\":[0,2]}]";
   const auto path = write(dir, "trs.gltf", w.gltf(members));
   const Result<Scene> scene = load_gltf(path.string());
   ASSERT_TRUE(scene.has_value()) << scene.error().message;
@@ -663,9 +686,10 @@ TEST(Gltf, MirroringNodeKeepsTheFrontFace) {
   // Mirroring x leaves the triangle's plane facing +Z; mirroring z turns its front to -Z
   // (the front face is the one counter-clockwise after the transform, glTF 2.0 section 3.7.4).
   // Mirroring both is a rotation: no flip.
-  const auto path = write(dir, "mirror.gltf",
-                          w.gltf(one_mesh(primitive(pos), {"{\"scale\":[-1,1,1]}", "{\"scale\":[1,1,-1]}",
-                                                           "{\"scale\":[-1,1,-1]}"})));
+  const auto path = write(
+      dir, "mirror.gltf",
+      w.gltf(one_mesh(primitive(pos),
+                      {"{\"scale\":[-1,1,1]}", "{\"scale\":[1,1,-1]}", "{\"scale\":[-1,1,-1]}"})));
   const Result<Scene> scene = load_gltf(path.string());
   ASSERT_TRUE(scene.has_value()) << scene.error().message;
   ASSERT_EQ(scene->triangle_count(), 3u);
@@ -682,18 +706,22 @@ TEST(Gltf, SceneSelection) {
   GltfWriter w;
   const int pos = w.positions(kTriangle);
   const std::string mesh = "\"meshes\":[{\"primitives\":[" + primitive(pos) + "]}],";
-  const std::string nodes = "\"nodes\":[{\"mesh\":0},{\"mesh\":0,\"translation\":[0,0,1]},{\"children\":[1]}]";
+  const std::string nodes =
+      "\"nodes\":[{\"mesh\":0},{\"mesh\":0,\"translation\":[0,0,1]},{\"children\":[1]}]";
   // The default scene is 1, which holds only node 0.
   {
-    const auto path = write(dir, "default.gltf",
-                            w.gltf(mesh + nodes + ",\"scenes\":[{\"nodes\":[0,2]},{\"nodes\":[0]}],\"scene\":1"));
+    const auto path =
+        write(dir, "default.gltf",
+              w.gltf(mesh + nodes + ",\"scenes\":[{\"nodes\":[0,2]},{\"nodes\":[0]}],\"scene\":1"));
     const Result<Scene> scene = load_gltf(path.string());
     ASSERT_TRUE(scene.has_value()) << scene.error().message;
     EXPECT_EQ(scene->triangle_count(), 1u);
   }
   // No default: scene 0.
   {
-    const auto path = write(dir, "first.gltf", w.gltf(mesh + nodes + ",\"scenes\":[{\"nodes\":[0,2]},{\"nodes\":[0]}]"));
+    const auto path =
+        write(dir, "first.gltf",
+              w.gltf(mesh + nodes + ",\"scenes\":[{\"nodes\":[0,2]},{\"nodes\":[0]}]"));
     const Result<Scene> scene = load_gltf(path.string());
     ASSERT_TRUE(scene.has_value()) << scene.error().message;
     EXPECT_EQ(scene->triangle_count(), 2u);
@@ -729,12 +757,18 @@ TEST(Gltf, CamerasInNodeOrder) {
   const double s = std::sqrt(0.5);
   // Node 1: a camera at (0, 0, 5) turned 90 degrees about +Y, so it looks down -X.
   const std::string members =
-      "\"cameras\":[{\"type\":\"perspective\",\"perspective\":{\"yfov\":0.5,\"aspectRatio\":1.5,\"znear\":0.1}},"
-      "{\"type\":\"orthographic\",\"orthographic\":{\"xmag\":1,\"ymag\":1,\"znear\":0.1,\"zfar\":10}},"
+      "\"cameras\":[{\"type\":\"perspective\",\"perspective\":{\"yfov\":0.5,\"aspectRatio\":1.5,"
+      "\"znear\":0.1}},"
+      "{\"type\":\"orthographic\",\"orthographic\":{\"xmag\":1,\"ymag\":1,\"znear\":0.1,\"zfar\":"
+      "10}},"
       "{\"name\":\"named\",\"type\":\"perspective\",\"perspective\":{\"yfov\":1.0,\"znear\":0.1}}],"
-      "\"meshes\":[{\"primitives\":[" + primitive(pos) + "]}],"
+      "\"meshes\":[{\"primitives\":[" +
+      primitive(pos) +
+      "]}],"
       "\"nodes\":[{\"mesh\":0,\"children\":[1,2,3]},"
-      "{\"name\":\"side\",\"camera\":0,\"translation\":[0,0,5],\"rotation\":[0," + std::to_string(s) + ",0," + std::to_string(s) + "]},"
+      "{\"name\":\"side\",\"camera\":0,\"translation\":[0,0,5],\"rotation\":[0," +
+      std::to_string(s) + ",0," + std::to_string(s) +
+      "]},"
       "{\"camera\":1},{\"name\":\"ignored\",\"camera\":2}],"
       "\"scenes\":[{\"nodes\":[0]}]";
   const auto path = write(dir, "cameras.gltf", w.gltf(members));
@@ -759,7 +793,8 @@ TEST(Gltf, MissingImagesAreNotAnError) {
   GltfWriter w;
   const int pos = w.positions(kTriangle);
   const std::string members =
-      "\"images\":[{\"uri\":\"missing.png\"},{\"uri\":\"present.png\"}],\"textures\":[{\"source\":0},{\"source\":1}],"
+      "\"images\":[{\"uri\":\"missing.png\"},{\"uri\":\"present.png\"}],\"textures\":[{\"source\":"
+      "0},{\"source\":1}],"
       "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}}}]," +
       one_mesh(primitive(pos, -1, 4, 0));
   write_file(dir / "present.png", "not really a PNG");  // present but never decoded
@@ -777,9 +812,13 @@ TEST(Gltf, GpuInstancing) {
   const int sc = w.accessor(w.view(bytes(std::vector<float>{1, 1, 1, 2, 2, 2})), kFloat, 2, "VEC3");
   const std::string members =
       "\"extensionsUsed\":[\"EXT_mesh_gpu_instancing\"],"
-      "\"meshes\":[{\"primitives\":[" + primitive(pos) + "]}],"
+      "\"meshes\":[{\"primitives\":[" +
+      primitive(pos) +
+      "]}],"
       "\"nodes\":[{\"mesh\":0,\"translation\":[0,1,0],\"extensions\":{\"EXT_mesh_gpu_instancing\":"
-      "{\"attributes\":{\"TRANSLATION\":" + std::to_string(t) + ",\"SCALE\":" + std::to_string(sc) + "}}}}],"
+      "{\"attributes\":{\"TRANSLATION\":" +
+      std::to_string(t) + ",\"SCALE\":" + std::to_string(sc) +
+      "}}}}],"
       "\"scenes\":[{\"nodes\":[0]}]";
   const auto path = write(dir, "instancing.gltf", w.gltf(members));
   const Result<Scene> scene = load_gltf(path.string());
@@ -809,11 +848,11 @@ TEST(Gltf, NonFiniteAndZeroAreaTrianglesAreCounted) {
   const float nan = std::numeric_limits<float>::quiet_NaN();
   const float inf = std::numeric_limits<float>::infinity();
   GltfWriter w;
-  const int pos = w.positions({0, 0, 0, 1, 0, 0, 0, 1, 0,        // good
-                               0, 0, 0, nan, 0, 0, 0, 1, 0,      // NaN
-                               0, 0, 0, 1, 0, 0, 0, inf, 0,      // infinite
-                               0, 0, 0, 1, 0, 0, 2, 0, 0,        // collinear
-                               1, 1, 1, 1, 1, 1, 1, 1, 1});      // one point
+  const int pos = w.positions({0, 0, 0, 1,   0, 0, 0, 1,   0,    // good
+                               0, 0, 0, nan, 0, 0, 0, 1,   0,    // NaN
+                               0, 0, 0, 1,   0, 0, 0, inf, 0,    // infinite
+                               0, 0, 0, 1,   0, 0, 2, 0,   0,    // collinear
+                               1, 1, 1, 1,   1, 1, 1, 1,   1});  // one point
   const auto path = write(dir, "degenerate.gltf", w.gltf(one_mesh(primitive(pos))));
   const Result<Scene> scene = load_gltf(path.string());
   ASSERT_TRUE(scene.has_value()) << scene.error().message;
@@ -846,8 +885,9 @@ TEST(BadInput, UnknownExtension) {
 
 TEST(BadInput, MissingBinaryBuffer) {
   TempDir dir;
-  const auto path = write(dir, "nobin.gltf",
-                          "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"uri\":\"absent.bin\",\"byteLength\":36}]}");
+  const auto path = write(
+      dir, "nobin.gltf",
+      "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"uri\":\"absent.bin\",\"byteLength\":36}]}");
   expect_error(load_scene(path.string()), path);
 }
 
@@ -927,7 +967,8 @@ TEST(BadInput, UnsupportedComponentTypes) {
   TempDir dir;
   {
     GltfWriter w;
-    const int pos = w.accessor(w.view(bytes(std::vector<std::uint32_t>{0, 0, 0, 1, 0, 0, 0, 1, 0})), kUInt, 3, "VEC3");
+    const int pos = w.accessor(w.view(bytes(std::vector<std::uint32_t>{0, 0, 0, 1, 0, 0, 0, 1, 0})),
+                               kUInt, 3, "VEC3");
     const auto path = write(dir, "uint-positions.gltf", w.gltf(one_mesh(primitive(pos))));
     expect_error(load_scene(path.string()), path, "component type 5125");
   }
@@ -954,13 +995,17 @@ TEST(BadInput, DanglingReferences) {
   const std::vector<std::pair<std::string, std::string>> cases{
       {"mesh", mesh + "\"nodes\":[{\"mesh\":3}],\"scenes\":[{\"nodes\":[0]}]"},
       {"node", mesh + "\"nodes\":[{\"mesh\":0,\"children\":[7]}],\"scenes\":[{\"nodes\":[0]}]"},
-      {"cycle", mesh + "\"nodes\":[{\"mesh\":0,\"children\":[1]},{\"children\":[0]}],\"scenes\":[{\"nodes\":[0]}]"},
-      {"material", "\"meshes\":[{\"primitives\":[" + primitive(pos, -1, 4, 2) + "]}],\"nodes\":[{\"mesh\":0}],\"scenes\":[{\"nodes\":[0]}]"},
-      {"accessor", "\"meshes\":[{\"primitives\":[" + primitive(9) + "]}],\"nodes\":[{\"mesh\":0}],\"scenes\":[{\"nodes\":[0]}]"},
+      {"cycle", mesh + "\"nodes\":[{\"mesh\":0,\"children\":[1]},{\"children\":[0]}],\"scenes\":[{"
+                       "\"nodes\":[0]}]"},
+      {"material", "\"meshes\":[{\"primitives\":[" + primitive(pos, -1, 4, 2) +
+                       "]}],\"nodes\":[{\"mesh\":0}],\"scenes\":[{\"nodes\":[0]}]"},
+      {"accessor", "\"meshes\":[{\"primitives\":[" + primitive(9) +
+                       "]}],\"nodes\":[{\"mesh\":0}],\"scenes\":[{\"nodes\":[0]}]"},
       {"camera", mesh + "\"nodes\":[{\"mesh\":0,\"camera\":4}],\"scenes\":[{\"nodes\":[0]}]"},
       {"scene", mesh + "\"nodes\":[{\"mesh\":0}],\"scenes\":[{\"nodes\":[0]}],\"scene\":3"},
       {"matrix", mesh + "\"nodes\":[{\"mesh\":0,\"matrix\":[1,0,0]}],\"scenes\":[{\"nodes\":[0]}]"},
-      {"mode", "\"meshes\":[{\"primitives\":[" + primitive(pos, -1, 9) + "]}],\"nodes\":[{\"mesh\":0}],\"scenes\":[{\"nodes\":[0]}]"},
+      {"mode", "\"meshes\":[{\"primitives\":[" + primitive(pos, -1, 9) +
+                   "]}],\"nodes\":[{\"mesh\":0}],\"scenes\":[{\"nodes\":[0]}]"},
   };
   for (const auto& [name, members] : cases) {
     const auto path = write(dir, name + ".gltf", w.gltf(members));
@@ -974,9 +1019,10 @@ TEST(BadInput, SparseIndexBeyondTheCount) {
   GltfWriter w;
   const int idx = w.view(bytes(std::vector<std::uint16_t>{1, 5}));
   const int val = w.view(bytes(std::vector<float>{1, 0, 0, 0, 1, 0}));
-  const int pos = w.accessor(-1, kFloat, 3, "VEC3",
-                             ",\"sparse\":{\"count\":2,\"indices\":{\"bufferView\":" + std::to_string(idx) +
-                                 ",\"componentType\":5123},\"values\":{\"bufferView\":" + std::to_string(val) + "}}");
+  const int pos = w.accessor(
+      -1, kFloat, 3, "VEC3",
+      ",\"sparse\":{\"count\":2,\"indices\":{\"bufferView\":" + std::to_string(idx) +
+          ",\"componentType\":5123},\"values\":{\"bufferView\":" + std::to_string(val) + "}}");
   const auto path = write(dir, "sparse.gltf", w.gltf(one_mesh(primitive(pos))));
   expect_error(load_scene(path.string()), path, "sparse index 5");
 }
@@ -999,7 +1045,8 @@ TEST(BadInput, EmptyScene) {
   // A mesh that no node of the default scene uses.
   const auto unused = write(dir, "unused.gltf",
                             w.gltf("\"meshes\":[{\"primitives\":[" + primitive(pos) +
-                                   "]}],\"nodes\":[{\"mesh\":0},{}],\"scenes\":[{\"nodes\":[0]},{\"nodes\":[1]}],\"scene\":1"));
+                                   "]}],\"nodes\":[{\"mesh\":0},{}],\"scenes\":[{\"nodes\":[0]},{"
+                                   "\"nodes\":[1]}],\"scene\":1"));
   expect_error(load_scene(unused.string()), unused, "no triangles");
   const auto lines = write(dir, "lines.gltf", w.gltf(one_mesh(primitive(pos, -1, 1))));
   expect_error(load_scene(lines.string()), lines, "no triangles");
@@ -1030,21 +1077,24 @@ TEST(BadInput, GarbledFiles) {
     state = state * 1664525u + 1013904223u;  // fixed-seed LCG
     noise += static_cast<char>(state >> 24);
   }
-  for (const char* name : {"noise.ply", "noise.obj", "noise.off", "noise.stl", "noise.glb", "noise.gltf"}) {
+  for (const char* name :
+       {"noise.ply", "noise.obj", "noise.off", "noise.stl", "noise.glb", "noise.gltf"}) {
     const auto path = write(dir, name, noise);
     SCOPED_TRACE(name);
     expect_error(load_scene(path.string()), path);
   }
   // A PLY header followed by garbage, and one whose face refers to a missing vertex.
-  const auto header = write(dir, "header.ply",
-                            "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
-                            "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
-                            "0 0 zero\n1 0 0\n0 1 0\n3 0 1 2\n");
+  const auto header =
+      write(dir, "header.ply",
+            "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+            "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+            "0 0 zero\n1 0 0\n0 1 0\n3 0 1 2\n");
   expect_error(load_scene(header.string()), header);
-  const auto dangling = write(dir, "dangling.ply",
-                              "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
-                              "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
-                              "0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n");
+  const auto dangling =
+      write(dir, "dangling.ply",
+            "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+            "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+            "0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n");
   expect_error(load_scene(dangling.string()), dangling, "face 1 refers to vertex 7, file has 3");
 }
 
@@ -1055,9 +1105,10 @@ TEST(PolygonSoup, ObjPolygonsAreFanTriangulated) {
   TempDir dir;
   // A quad; a convex pentagon written with v/vt/vn syntax and negative (relative) indices; a
   // triangle with a repeated vertex (zero area); a two-vertex face (skipped with a note).
-  const auto path = write(dir, "Polys.OBJ",
-                          "# test\no thing\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv -1 0.5 0\nvt 0 0\nvn 0 0 1\n"
-                          "g quad\nf 1 2 3 4\nf 1/1/1 2/1/1 -3/1/1 -2//1 -1//1\nf 1 2 2\nf 1 2\n");
+  const auto path =
+      write(dir, "Polys.OBJ",
+            "# test\no thing\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv -1 0.5 0\nvt 0 0\nvn 0 0 1\n"
+            "g quad\nf 1 2 3 4\nf 1/1/1 2/1/1 -3/1/1 -2//1 -1//1\nf 1 2 2\nf 1 2\n");
   const Result<Scene> scene = load_scene(path.string());
   ASSERT_TRUE(scene.has_value()) << scene.error().message;
   EXPECT_EQ(scene->name, "Polys");
@@ -1067,7 +1118,9 @@ TEST(PolygonSoup, ObjPolygonsAreFanTriangulated) {
   EXPECT_FALSE(scene->report.notes.empty());
   EXPECT_EQ(two_sided_count(*scene), scene->triangle_count());
   // Fans from the first corner keep the polygon's counter-clockwise order.
-  for (std::size_t t = 0; t < scene->triangle_count(); ++t) EXPECT_GT(normal(*scene, t).z, 0.0f) << t;
+  for (std::size_t t = 0; t < scene->triangle_count(); ++t) {
+    EXPECT_GT(normal(*scene, t).z, 0.0f) << t;
+  }
   expect_near(scene->triangle(1)[0], {0, 0, 0});
   expect_near(scene->triangle(1)[1], {1, 1, 0});
   expect_near(scene->triangle(1)[2], {0, 1, 0});
@@ -1076,11 +1129,12 @@ TEST(PolygonSoup, ObjPolygonsAreFanTriangulated) {
 
 TEST(PolygonSoup, PlyWithExtraVertexProperties) {
   TempDir dir;
-  const auto path = write(dir, "extra.ply",
-                          "ply\nformat ascii 1.0\ncomment like the Stanford bunny\nelement vertex 4\n"
-                          "property float x\nproperty float y\nproperty float z\nproperty float confidence\n"
-                          "property float intensity\nelement face 1\nproperty list uchar int vertex_indices\n"
-                          "end_header\n0 0 0 1 0.5\n1 0 0 1 0.5\n1 1 0 0.2 0.1\n0 1 0 1 1\n4 0 1 2 3\n");
+  const auto path =
+      write(dir, "extra.ply",
+            "ply\nformat ascii 1.0\ncomment like the Stanford bunny\nelement vertex 4\n"
+            "property float x\nproperty float y\nproperty float z\nproperty float confidence\n"
+            "property float intensity\nelement face 1\nproperty list uchar int vertex_indices\n"
+            "end_header\n0 0 0 1 0.5\n1 0 0 1 0.5\n1 1 0 0.2 0.1\n0 1 0 1 1\n4 0 1 2 3\n");
   const Result<Scene> scene = load_scene(path.string());
   ASSERT_TRUE(scene.has_value()) << scene.error().message;
   EXPECT_EQ(scene->triangle_count(), 2u);
@@ -1089,14 +1143,16 @@ TEST(PolygonSoup, PlyWithExtraVertexProperties) {
 
 TEST(PolygonSoup, OffAndStl) {
   TempDir dir;
-  const auto off = write(dir, "tet.off",
-                         "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n");
+  const auto off =
+      write(dir, "tet.off",
+            "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n");
   const Result<Scene> a = load_scene(off.string());
   ASSERT_TRUE(a.has_value()) << a.error().message;
   EXPECT_EQ(a->triangle_count(), 4u);
-  const auto stl = write(dir, "tri.stl",
-                         "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\n"
-                         "endloop\nendfacet\nendsolid t\n");
+  const auto stl =
+      write(dir, "tri.stl",
+            "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\n"
+            "endloop\nendfacet\nendsolid t\n");
   const Result<Scene> b = load_scene(stl.string());
   ASSERT_TRUE(b.has_value()) << b.error().message;
   EXPECT_EQ(b->triangle_count(), 1u);
