@@ -11,5 +11,6 @@ using Command = std::function<int()>;
 
 Command add_render_command(CLI::App& app);
 Command add_info_command(CLI::App& app);
+Command add_bench_command(CLI::App& app);
 
 }  // namespace exao::cli

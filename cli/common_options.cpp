@@ -34,6 +34,44 @@ void add_camera_options(CLI::App& app, CameraOptions& options) {
   app.add_option("-H,--height", options.height, "Image height in pixels (default: from the camera's aspect, or 480)");
 }
 
+void add_method_options(CLI::App& app, MethodOptions& options) {
+  app.add_option("--method", options.method, "embree (reference rays), brute (every triangle's mask) or bvh")
+      ->capture_default_str();
+  app.add_option("--masks", options.masks, "Plane masks from the look-up table (lut) or exact tests (exact)")
+      ->capture_default_str();
+  app.add_option("--embree-rays", options.embree_rays, "single, packet4, packet8 or packet16")->capture_default_str();
+  app.add_option("--table-resolution", options.table_resolution, "Look-up table cells per side (0: the default for N)")
+      ->capture_default_str();
+  app.add_option("--branching", options.branching, "BVH children per node: 2 or 4")->capture_default_str();
+}
+
+Result<BackendOptions> make_backend_options(const MethodOptions& options) {
+  BackendOptions out;
+  Result<EmbreeRays> rays = parse_embree_rays(options.embree_rays);
+  if (!rays) return std::unexpected(rays.error());
+  out.embree.rays = *rays;
+  Result<lut::MaskMode> masks = lut::parse_mask_mode(options.masks);
+  if (!masks) return std::unexpected(masks.error());
+  out.masks = *masks;
+  out.table_resolution = options.table_resolution;
+  out.bvh.branching = options.branching;
+  return out;
+}
+
+std::unique_ptr<tbb::global_control> thread_limit(int threads) {
+  if (threads <= 0) return nullptr;
+  return std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+}
+
+void print_stats(const BackendStats& stats) {
+  const auto& t = stats.traversal;
+  if (t.receivers == 0) return;
+  const double n = static_cast<double>(t.receivers);
+  std::printf("per receiver: %.1f nodes visited, %.1f triangles tested, %.1f triangles blocked a new ray\n",
+              static_cast<double>(t.nodes_visited) / n, static_cast<double>(t.triangles_tested) / n,
+              static_cast<double>(t.triangles_blocking) / n);
+}
+
 Result<Scene> open_scene(const SceneOptions& options) {
   Result<Scene> scene = exao::open_scene(options.scene);
   if (!scene) return scene;

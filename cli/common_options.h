@@ -11,6 +11,10 @@
 #include "core/error.h"
 #include "core/scene.h"
 #include "core/shadow_rays.h"
+#include "cli/backends.h"
+
+#include <memory>
+#include <tbb/global_control.h>
 
 namespace exao::cli {
 
@@ -36,9 +40,18 @@ struct CameraOptions {
   std::optional<int> height;   // default: width / the camera's aspect, or 480
 };
 
+struct MethodOptions {
+  std::string method = "bvh";  // embree | brute | bvh
+  std::string masks = "lut";   // lut | exact
+  std::string embree_rays = "packet8";
+  int table_resolution = 0;    // 0: the default for N
+  int branching = 4;
+};
+
 void add_scene_options(CLI::App& app, SceneOptions& options);
 void add_ray_options(CLI::App& app, RayOptions& options);
 void add_camera_options(CLI::App& app, CameraOptions& options);
+void add_method_options(CLI::App& app, MethodOptions& options);
 
 /// Opens the scene, applies --sided and prints what the loader skipped (one line each) to stderr.
 [[nodiscard]] Result<Scene> open_scene(const SceneOptions& options);
@@ -55,6 +68,15 @@ void add_camera_options(CLI::App& app, CameraOptions& options);
 
 /// Refuses an output path that names the input file (inputs are never overwritten).
 [[nodiscard]] Result<void> check_output(const std::string& output, const std::string& input);
+
+/// The backend settings of --masks, --embree-rays, --table-resolution and --branching.
+[[nodiscard]] Result<BackendOptions> make_backend_options(const MethodOptions& options);
+
+/// Caps TBB's worker threads when threads > 0; keep the result alive while working.
+[[nodiscard]] std::unique_ptr<tbb::global_control> thread_limit(int threads);
+
+/// Prints BVH work counters per receiver.
+void print_stats(const BackendStats& stats);
 
 /// Prints "exao: <message>" on stderr and returns the exit status for bad input.
 int report(const Error& error);

@@ -30,6 +30,7 @@ int main(int argc, char** argv) {
   const std::vector<exao::cli::Command> commands = {
       exao::cli::add_render_command(app),
       exao::cli::add_info_command(app),
+      exao::cli::add_bench_command(app),
   };
   CLI11_PARSE(app, argc, argv);
   for (const auto& command : commands) {

@@ -6,10 +6,10 @@
 
 #include <tbb/global_control.h>
 
+#include "cli/backends.h"
 #include "cli/commands.h"
 #include "cli/common_options.h"
 #include "cli/progress_bar.h"
-#include "core/embree_reference.h"
 #include "core/image_io.h"
 #include "core/pixel_receivers.h"
 
@@ -20,11 +20,11 @@ struct RenderOptions {
   SceneOptions scene;
   RayOptions rays;
   CameraOptions camera;
+  MethodOptions method;
   std::string output = "ao.exr";
   std::string png = "ao.png";
-  std::string method = "embree";
-  std::string embree_rays = embree_rays_name(EmbreeOptions{}.rays);
   bool counts = false;
+  bool stats = false;
 };
 
 AoImage to_image(const PixelReceivers& pixels, const MaskSet& masks, bool counts) {
@@ -44,14 +44,13 @@ AoImage to_image(const PixelReceivers& pixels, const MaskSet& masks, bool counts
 }
 
 int run_render(const RenderOptions& options) {
-  std::unique_ptr<tbb::global_control> threads;
-  if (options.rays.threads > 0) {
-    threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, options.rays.threads);
-  }
+  const auto threads = thread_limit(options.rays.threads);
   if (auto ok = check_output(options.output, options.scene.scene); !ok) return report(ok.error());
   if (auto ok = check_output(options.png, options.scene.scene); !ok) return report(ok.error());
-  Result<EmbreeRays> embree_rays = parse_embree_rays(options.embree_rays);
-  if (!embree_rays) return report(embree_rays.error());
+  Result<Method> method = parse_method(options.method.method);
+  if (!method) return report(method.error());
+  Result<BackendOptions> backend_options = make_backend_options(options.method);
+  if (!backend_options) return report(backend_options.error());
 
   Result<Scene> scene = open_scene(options.scene);
   if (!scene) return report(scene.error());
@@ -61,17 +60,24 @@ int run_render(const RenderOptions& options) {
   if (!camera) return report(camera.error());
   Result<int> height = image_height(options.camera, *camera);
   if (!height) return report(height.error());
-  Result<EmbreeScene> embree = EmbreeScene::build(*scene);
-  if (!embree) return report(embree.error());
+  const Method methods[] = {*method};
+  Result<Backends> backends = Backends::prepare(*scene, methods, *backend_options);
+  if (!backends) return report(backends.error());
+  std::optional<lut::MaskEngine> engine;
+  if (*method != Method::Embree) {
+    Result<lut::MaskEngine> built = backends->engine(*rays, backend_options->masks);
+    if (!built) return report(built.error());
+    engine = std::move(*built);
+  }
 
-  const PixelReceivers pixels = pixel_receivers(*embree, *scene, *camera, options.camera.width, *height);
+  const PixelReceivers pixels = pixel_receivers(backends->embree(), *scene, *camera, options.camera.width, *height);
   const auto start = std::chrono::steady_clock::now();
   MaskSet masks;
+  BackendStats stats;
   {
     ProgressBar bar("render");
-    EmbreeOptions embree_options;
-    embree_options.rays = *embree_rays;
-    masks = embree->occlusion(*rays, pixels.receivers, embree_options, bar.callback());
+    masks = backends->run(*method, *rays, engine ? &*engine : nullptr, pixels.receivers, bar.callback(),
+                          options.stats ? &stats : nullptr);
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
@@ -83,8 +89,9 @@ int run_render(const RenderOptions& options) {
   const double mrays = static_cast<double>(pixels.receivers.size()) * rays->count() / seconds * 1e-6;
   std::printf("%s: %zu triangles, %dx%d, %zu receivers, N=%d, r=%g, %s: %.3f s (%.1f Mrays/s) -> %s%s%s\n",
               options.scene.scene.c_str(), scene->triangle_count(), pixels.width, pixels.height,
-              pixels.receivers.size(), rays->count(), static_cast<double>(rays->radius), options.method.c_str(),
-              seconds, mrays, options.output.c_str(), options.png.empty() ? "" : ", ", options.png.c_str());
+              pixels.receivers.size(), rays->count(), static_cast<double>(rays->radius), method_name(*method), seconds,
+              mrays, options.output.c_str(), options.png.empty() ? "" : ", ", options.png.c_str());
+  if (options.stats) print_stats(stats);
   return 0;
 }
 
@@ -96,11 +103,11 @@ Command add_render_command(CLI::App& app) {
   add_scene_options(*command, options->scene);
   add_ray_options(*command, options->rays);
   add_camera_options(*command, options->camera);
+  add_method_options(*command, options->method);
   command->add_option("-o,--output", options->output, "OpenEXR output (Y = AO, A = coverage)")->capture_default_str();
   command->add_option("--png", options->png, "PNG preview (empty: none)")->capture_default_str();
-  command->add_option("--method", options->method, "embree")->check(CLI::IsMember({"embree"}))->capture_default_str();
-  command->add_option("--embree-rays", options->embree_rays, "single, packet4, packet8 or packet16")->capture_default_str();
   command->add_flag("--counts", options->counts, "Add a 'blocked' channel with the blocked-ray count");
+  command->add_flag("--stats", options->stats, "Print work counters per receiver (bvh)");
   return [options, command]() { return command->parsed() ? run_render(*options) : -1; };
 }
 

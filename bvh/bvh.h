@@ -1,0 +1,45 @@
+#pragma once
+// exao::bvh::Bvh: the scene's triangles in a bounding volume hierarchy built by Embree's SAH
+// builder (rtcBuildBVH), flattened into exao's own compact layout: every node holds the boxes
+// and bounding spheres of its (up to four) children side by side, so that one receiver tests all
+// children of a node in one pass (paper Sec. 5).
+
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "core/error.h"
+#include "lut/triangle_set.h"
+
+namespace exao::bvh {
+
+inline constexpr int kMaxChildren = 4;
+
+/// One internal node. Child slot k is used when k < child_count.
+struct Node {
+  float lo_x[kMaxChildren], lo_y[kMaxChildren], lo_z[kMaxChildren];  // child boxes, world units
+  float hi_x[kMaxChildren], hi_y[kMaxChildren], hi_z[kMaxChildren];
+  float centre_x[kMaxChildren], centre_y[kMaxChildren], centre_z[kMaxChildren];  // child spheres,
+  float radius[kMaxChildren];  // holding every triangle sphere below (so region masks nest)
+  std::uint32_t child[kMaxChildren];  // internal: node index; leaf: first triangle
+  std::uint8_t leaf_size[kMaxChildren];  // 0 for an internal child, else its triangle count (1-8)
+  std::uint8_t child_count;
+};
+
+struct BvhOptions {
+  int branching = 4;     // 2 or 4 children per node (Embree's maxBranchingFactor)
+  int max_leaf_size = 8; // triangles per leaf, 1-8 (paper Sec. 6)
+};
+
+struct Bvh {
+  std::vector<Node> nodes;          // nodes[0] is the root
+  lut::TriangleSet triangles;       // in leaf order: leaf triangles are contiguous
+  std::vector<std::uint32_t> scene_triangle;  // index in the scene of triangles[i]
+
+  /// Builds over `triangles` (copied in leaf order: the floats are the same, so every mask
+  /// equals brute's). Fails on an empty set or an Embree error.
+  [[nodiscard]] static Result<Bvh> build(const lut::TriangleSet& triangles, const BvhOptions& options = {});
+};
+
+}  // namespace exao::bvh

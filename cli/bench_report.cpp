@@ -1,0 +1,143 @@
+#include "cli/bench_report.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "core/atomic_write.h"
+
+namespace exao::cli {
+namespace {
+
+Result<void> write_text(const std::string& text, const std::string& path) {
+  return write_atomically(path, [&](const std::string& temp) -> Result<void> {
+    std::ofstream out(temp);
+    out << text;
+    if (!out.flush()) return fail(path + ": write failed");
+    return {};
+  });
+}
+
+std::string escape_xml(const std::string& s) {
+  std::string out;
+  for (const char c : s) {
+    if (c == '<') out += "&lt;";
+    else if (c == '>') out += "&gt;";
+    else if (c == '&') out += "&amp;";
+    else out += c;
+  }
+  return out;
+}
+
+}  // namespace
+
+void print_bench_header(const BenchReport& report) {
+  std::printf("scene %s: %zu triangles, %dx%d camera, %zu receivers, %d threads\n", report.scene.c_str(),
+              report.triangles, report.width, report.height, report.receivers, report.threads);
+  std::printf("%5s %10s %-7s %-6s %9s %9s %8s %10s %9s %9s %9s\n", "N", "radius", "method", "masks", "seconds",
+              "Mrays/s", "x embree", "rays agree", "identical", "mean|dAO|", "max|dAO|");
+}
+
+void print_bench_row(const BenchRun& run, bool stats) {
+  std::printf("%5d %10.4g %-7s %-6s %9.3f %9.1f %8.2f %9.4f%% %8.2f%% %9.5f %9.5f\n", run.samples,
+              static_cast<double>(run.radius), run.method.c_str(), run.masks.c_str(), run.seconds, run.mrays_per_s,
+              run.speedup_vs_embree, 100.0 * run.ray_agreement, 100.0 * run.identical_receivers, run.mean_abs_error,
+              run.max_abs_error);
+  const auto& t = run.stats.traversal;
+  if (stats && t.receivers) {
+    const double n = static_cast<double>(t.receivers);
+    std::printf("      per receiver: %.1f nodes visited, %.1f triangles tested, %.1f triangles blocked a new ray\n",
+                static_cast<double>(t.nodes_visited) / n, static_cast<double>(t.triangles_tested) / n,
+                static_cast<double>(t.triangles_blocking) / n);
+  }
+  std::fflush(stdout);
+}
+
+Result<void> write_bench_json(const BenchReport& report, const std::string& path) {
+  nlohmann::json j;
+  j["scene"] = report.scene;
+  j["triangles"] = report.triangles;
+  j["receivers"] = report.receivers;
+  j["threads"] = report.threads;
+  j["width"] = report.width;
+  j["height"] = report.height;
+  j["runs"] = nlohmann::json::array();
+  for (const BenchRun& run : report.runs) {
+    nlohmann::json r{{"samples", run.samples},
+                     {"radius", run.radius},
+                     {"radius_option", run.radius_text},
+                     {"method", run.method},
+                     {"masks", run.masks},
+                     {"seconds", run.seconds},
+                     {"mrays_per_s", run.mrays_per_s},
+                     {"speedup_vs_embree", run.speedup_vs_embree},
+                     {"ray_agreement", run.ray_agreement},
+                     {"identical_receivers", run.identical_receivers},
+                     {"mean_abs_error", run.mean_abs_error},
+                     {"max_abs_error", run.max_abs_error}};
+    const auto& t = run.stats.traversal;
+    if (t.receivers) {
+      const double n = static_cast<double>(t.receivers);
+      r["nodes_visited"] = static_cast<double>(t.nodes_visited) / n;
+      r["triangles_tested"] = static_cast<double>(t.triangles_tested) / n;
+      r["triangles_blocking"] = static_cast<double>(t.triangles_blocking) / n;
+    }
+    j["runs"].push_back(r);
+  }
+  return write_text(j.dump(2) + "\n", path);
+}
+
+// Groups of bars, one group per (N, radius), one bar per method and mask mode, height Mrays/s.
+Result<void> write_bench_svg(const BenchReport& report, const std::string& path) {
+  std::vector<std::string> groups, series;
+  for (const BenchRun& run : report.runs) {
+    const std::string g = "N=" + std::to_string(run.samples) + ", r=" + run.radius_text;
+    const std::string s = run.method + (run.method == "embree" ? "" : " (" + run.masks + ")");
+    if (std::find(groups.begin(), groups.end(), g) == groups.end()) groups.push_back(g);
+    if (std::find(series.begin(), series.end(), s) == series.end()) series.push_back(s);
+  }
+  double top = 1.0;
+  for (const BenchRun& run : report.runs) top = std::max(top, run.mrays_per_s);
+  const char* colours[] = {"#888888", "#d95f02", "#1b9e77", "#7570b3", "#e7298a", "#66a61e"};
+  const int bar = 28, gap = 24, left = 60, plot_h = 300, base = 40 + plot_h;
+  const int group_w = static_cast<int>(series.size()) * bar + gap;
+  const int width = left + static_cast<int>(groups.size()) * group_w + 200;
+  std::ostringstream svg;
+  svg << "<svg xmlns='http://www.w3.org/2000/svg' width='" << width << "' height='" << base + 60
+      << "' font-family='sans-serif' font-size='12'>\n<rect width='100%' height='100%' fill='white'/>\n";
+  svg << "<text x='" << left << "' y='20' font-size='14'>" << escape_xml(report.scene) << ": Mrays/s, "
+      << report.receivers << " receivers, " << report.threads << " threads</text>\n";
+  for (int tick = 0; tick <= 4; ++tick) {
+    const double value = top * tick / 4.0;
+    const int y = base - static_cast<int>(plot_h * tick / 4.0);
+    svg << "<line x1='" << left << "' x2='" << width - 200 << "' y1='" << y << "' y2='" << y << "' stroke='#ddd'/>"
+        << "<text x='" << left - 6 << "' y='" << y + 4 << "' text-anchor='end'>" << static_cast<int>(value) << "</text>\n";
+  }
+  for (const BenchRun& run : report.runs) {
+    const std::string g = "N=" + std::to_string(run.samples) + ", r=" + run.radius_text;
+    const std::string s = run.method + (run.method == "embree" ? "" : " (" + run.masks + ")");
+    const auto gi = std::find(groups.begin(), groups.end(), g) - groups.begin();
+    const auto si = std::find(series.begin(), series.end(), s) - series.begin();
+    const int h = static_cast<int>(plot_h * run.mrays_per_s / top);
+    const int x = left + static_cast<int>(gi) * group_w + static_cast<int>(si) * bar;
+    svg << "<rect x='" << x << "' y='" << base - h << "' width='" << bar - 4 << "' height='" << h << "' fill='"
+        << colours[si % 6] << "'><title>" << escape_xml(s) << ": " << run.mrays_per_s << " Mrays/s</title></rect>\n";
+  }
+  for (std::size_t gi = 0; gi < groups.size(); ++gi) {
+    svg << "<text x='" << left + static_cast<int>(gi) * group_w + (group_w - gap) / 2 << "' y='" << base + 18
+        << "' text-anchor='middle'>" << escape_xml(groups[gi]) << "</text>\n";
+  }
+  for (std::size_t si = 0; si < series.size(); ++si) {
+    const int y = 50 + static_cast<int>(si) * 18;
+    svg << "<rect x='" << width - 190 << "' y='" << y - 10 << "' width='12' height='12' fill='" << colours[si % 6]
+        << "'/><text x='" << width - 172 << "' y='" << y << "'>" << escape_xml(series[si]) << "</text>\n";
+  }
+  svg << "</svg>\n";
+  return write_text(svg.str(), path);
+}
+
+}  // namespace exao::cli

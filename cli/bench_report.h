@@ -1,0 +1,44 @@
+#pragma once
+// The results of `exao bench`: a table on stdout, JSON for scripts, an SVG chart for people.
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "cli/backends.h"
+#include "core/error.h"
+
+namespace exao::cli {
+
+struct BenchRun {
+  int samples = 0;
+  float radius = 0.0f;
+  std::string radius_text;
+  std::string method;
+  std::string masks;
+  double seconds = 0.0;
+  double mrays_per_s = 0.0;
+  double speedup_vs_embree = 0.0;
+  double ray_agreement = 0.0;       // share of rays whose blocked bit equals Embree's
+  double identical_receivers = 0.0; // share of receivers whose AO equals Embree's
+  double mean_abs_error = 0.0;      // |AO - AO_embree|
+  double max_abs_error = 0.0;
+  BackendStats stats;
+};
+
+struct BenchReport {
+  std::string scene;
+  std::size_t triangles = 0;
+  std::size_t receivers = 0;
+  int threads = 0;
+  int width = 0;
+  int height = 0;
+  std::vector<BenchRun> runs;
+};
+
+void print_bench_header(const BenchReport& report);
+void print_bench_row(const BenchRun& run, bool stats);
+[[nodiscard]] Result<void> write_bench_json(const BenchReport& report, const std::string& path);
+[[nodiscard]] Result<void> write_bench_svg(const BenchReport& report, const std::string& path);
+
+}  // namespace exao::cli

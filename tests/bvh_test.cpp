@@ -1,0 +1,138 @@
+// DESIGN.md section 8.1: the BVH backend equals brute bit for bit, for every receiver, whatever
+// the culling and ordering do.
+
+#include <gtest/gtest.h>
+
+#include <tuple>
+
+#include "bvh/occlusion.h"
+#include "core/builtin_scenes.h"
+#include "core/embree_reference.h"
+#include "core/load_scene.h"
+#include "core/pixel_receivers.h"
+#include "core/random.h"
+#include "lut/brute.h"
+#include "tests/test_support.h"
+
+namespace exao {
+namespace {
+
+struct Case {
+  std::string name;
+  Scene scene;
+  Camera camera;
+  int width, height;
+};
+
+// Pixel receivers (what a renderer asks for) plus receivers on random triangles, facing either
+// way (what a bake or a bounce asks for).
+std::vector<Receiver> receivers_for(const Case& c) {
+  Result<EmbreeScene> embree = EmbreeScene::build(c.scene);
+  EXPECT_TRUE(embree.has_value());
+  std::vector<Receiver> out = pixel_receivers(*embree, c.scene, c.camera, c.width, c.height).receivers;
+  Rng rng(3);
+  for (int i = 0; i < 200; ++i) {
+    const auto t = rng.below(static_cast<std::uint32_t>(c.scene.triangle_count()));
+    const auto tri = c.scene.triangle(t);
+    const float u = static_cast<float>(rng.uniform()), v = static_cast<float>(rng.uniform());
+    const float a = std::min(u, v), b = std::max(u, v) - a;
+    glm::vec3 n = glm::cross(tri[1] - tri[0], tri[2] - tri[0]);
+    if (rng.below(2)) n = -n;
+    out.push_back({tri[0] + a * (tri[1] - tri[0]) + b * (tri[2] - tri[0]), n, 1000000u + static_cast<std::uint64_t>(i)});
+  }
+  return out;
+}
+
+void expect_bvh_equals_brute(const Case& c, int samples, Falloff falloff, lut::MaskMode mode,
+                             const bvh::BvhOptions& bvh_options = {}) {
+  SCOPED_TRACE(c.name + " N=" + std::to_string(samples) + " " + falloff_name(falloff) + " " + lut::mask_mode_name(mode) +
+               " branching " + std::to_string(bvh_options.branching));
+  const float diagonal = c.scene.bounds().diagonal();
+  Result<SamplePattern> pattern = make_sample_pattern(samples, falloff);
+  ASSERT_TRUE(pattern.has_value());
+  Result<ShadowRays> rays = make_shadow_rays(*pattern, 0.05f * diagonal, 1e-4f * diagonal);
+  ASSERT_TRUE(rays.has_value());
+  Result<lut::MaskEngine> engine = lut::MaskEngine::build(*rays, mode);
+  ASSERT_TRUE(engine.has_value()) << engine.error().message;
+  const lut::TriangleSet triangles = lut::TriangleSet::build(c.scene);
+  Result<bvh::Bvh> tree = bvh::Bvh::build(triangles, bvh_options);
+  ASSERT_TRUE(tree.has_value()) << tree.error().message;
+
+  const std::vector<Receiver> receivers = receivers_for(c);
+  const MaskSet expected = lut::brute_occlusion(*engine, triangles, receivers);
+  bvh::TraversalStats stats;
+  const MaskSet got = bvh::occlusion(*tree, *engine, receivers, {}, &stats);
+  ASSERT_EQ(got.size(), expected.size());
+  std::size_t differing = 0, occluded = 0;
+  for (std::size_t i = 0; i < receivers.size(); ++i) {
+    occluded += expected.blocked_count(i) > 0;
+    if (!std::equal(got.row(i).begin(), got.row(i).end(), expected.row(i).begin())) {
+      if (differing++ < 5) ADD_FAILURE() << "receiver " << i << ": bvh blocks " << got.blocked_count(i) << ", brute " << expected.blocked_count(i);
+    }
+  }
+  EXPECT_EQ(differing, 0u);
+  EXPECT_GT(occluded, receivers.size() / 10) << "the scene should occlude a fair share of receivers";
+  EXPECT_EQ(stats.receivers, receivers.size());
+}
+
+Case room_case() {
+  Scene scene = make_room();
+  const Camera camera = scene.cameras[0];
+  return {"room", std::move(scene), camera, 48, 36};
+}
+
+TEST(Bvh, EqualsBruteOnRoom) {
+  const Case one_sided = room_case();
+  Case two_sided = room_case();
+  two_sided.name = "room two-sided";
+  apply_sidedness(two_sided.scene, Sidedness::Two);
+  for (const Case* c : std::initializer_list<const Case*>{&one_sided, &two_sided})
+    for (const int n : {128, 1024})
+      for (const Falloff f : {Falloff::Constant, Falloff::Linear})
+        for (const lut::MaskMode mode : {lut::MaskMode::Lut, lut::MaskMode::Exact}) expect_bvh_equals_brute(*c, n, f, mode);
+}
+
+TEST(Bvh, EqualsBruteWithEveryBranchingAndLeafSize) {
+  const Case c = room_case();
+  for (const int branching : {2, 4})
+    for (const int leaf : {1, 3, 8}) expect_bvh_equals_brute(c, 128, Falloff::Constant, lut::MaskMode::Lut, {branching, leaf});
+}
+
+TEST(Bvh, EqualsBruteOnConference) {
+  const auto path = test::real_scene("Conference/conference.obj");
+  EXAO_REQUIRE_SCENE(path);
+  Result<Scene> loaded = load_scene(path.string());
+  ASSERT_TRUE(loaded.has_value()) << loaded.error().message;
+  const Camera camera = look_at({-900.0f, 350.0f, -950.0f}, {600.0f, 150.0f, 300.0f}, 70.0f);
+  Case two_sided{"conference", std::move(*loaded), camera, 24, 18};  // OBJ: two-sided
+  Case one_sided = two_sided;
+  one_sided.name = "conference one-sided";
+  apply_sidedness(one_sided.scene, Sidedness::One);
+  for (const Case* c : std::initializer_list<const Case*>{&two_sided, &one_sided})
+    for (const int n : {128, 1024})
+      for (const Falloff f : {Falloff::Constant, Falloff::Linear})
+        for (const lut::MaskMode mode : {lut::MaskMode::Lut, lut::MaskMode::Exact}) expect_bvh_equals_brute(*c, n, f, mode);
+}
+
+TEST(Bvh, SingleTriangleScene) {
+  Scene scene;
+  scene.add_triangle({-1, 1, -1}, {1, 1, -1}, {0, 1, 1}, false, 0);  // front face down, toward the receiver
+  Case c{"one triangle", scene, look_at({0, 3, 3}, {0, 0, 0}, 60), 16, 12};
+  // The floor receivers come from random points on the triangle itself; add one under it.
+  Result<SamplePattern> pattern = make_sample_pattern(64, Falloff::Constant);
+  ASSERT_TRUE(pattern.has_value());
+  Result<ShadowRays> rays = make_shadow_rays(*pattern, 2.0f, 0.0f);
+  ASSERT_TRUE(rays.has_value());
+  Result<lut::MaskEngine> engine = lut::MaskEngine::build(*rays, lut::MaskMode::Exact);
+  ASSERT_TRUE(engine.has_value());
+  const lut::TriangleSet triangles = lut::TriangleSet::build(scene);
+  Result<bvh::Bvh> tree = bvh::Bvh::build(triangles);
+  ASSERT_TRUE(tree.has_value());
+  const Receiver below{{0, 0, 0}, {0, 1, 0}, 1};
+  const MaskSet masks = bvh::occlusion(*tree, *engine, std::span(&below, 1));
+  EXPECT_GT(masks.blocked_count(0), 0);
+  EXPECT_EQ(masks.bits(), lut::brute_occlusion(*engine, triangles, std::span(&below, 1)).bits());
+}
+
+}  // namespace
+}  // namespace exao
