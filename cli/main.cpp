@@ -31,6 +31,7 @@ int main(int argc, char** argv) {
       exao::cli::add_render_command(app),
       exao::cli::add_info_command(app),
       exao::cli::add_bench_command(app),
+      exao::cli::add_query_command(app),
   };
   CLI11_PARSE(app, argc, argv);
   for (const auto& command : commands) {

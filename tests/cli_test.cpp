@@ -83,5 +83,44 @@ TEST(Cli, NeverOverwritesTheInput) {
   EXPECT_EQ(after, contents);
 }
 
+std::vector<double> read_values(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::vector<double> values;
+  double v = 0.0;
+  while (in >> v) values.push_back(v);
+  return values;
+}
+
+TEST(Cli, QueryGivesOneValuePerPointInOrderFromTextAndPly) {
+  test::TempDir dir;
+  // Points on the room's floor, near a wall and in the open, with explicit keys 0..k-1 so that
+  // the PLY (whose keys are vertex indices) asks for exactly the same rays.
+  const float xs[] = {-4.9f, -2.0f, 0.0f, 1.6f, 4.5f};
+  std::string text = "# x y z nx ny nz key\n";
+  std::string ply = "ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\nproperty float y\nproperty float z\n"
+                    "property float nx\nproperty float ny\nproperty float nz\nend_header\n";
+  for (int i = 0; i < 5; ++i) {
+    const std::string p = std::to_string(xs[i]) + " 0 1.0 0 1 0";
+    text += p + " " + std::to_string(i) + "\n";
+    ply += p + "\n";
+  }
+  test::write_file(dir / "points.txt", text);
+  test::write_file(dir / "points.ply", ply);
+  const std::string common = " -n 256 --masks exact -o ";
+  ASSERT_EQ(exao("query --points " + (dir / "points.txt").string() + common + (dir / "bvh.txt").string()).status, 0);
+  ASSERT_EQ(exao("query --points " + (dir / "points.ply").string() + common + (dir / "ply.txt").string()).status, 0);
+  ASSERT_EQ(exao("query --method embree --points " + (dir / "points.txt").string() + common + (dir / "embree.txt").string()).status, 0);
+  const auto bvh = read_values(dir / "bvh.txt");
+  ASSERT_EQ(bvh.size(), 5u);
+  EXPECT_EQ(read_values(dir / "ply.txt"), bvh);
+  const auto embree = read_values(dir / "embree.txt");
+  ASSERT_EQ(embree.size(), 5u);
+  for (int i = 0; i < 5; ++i) EXPECT_NEAR(bvh[i], embree[i], 2.0 / 256) << "point " << i;
+  EXPECT_LT(bvh[0], bvh[2]) << "the point by the wall is darker than the one in the open";
+  expect_one_line_error(exao("query --points " + (dir / "missing.txt").string() + " -o " + (dir / "x.txt").string()), "missing.txt");
+  test::write_file(dir / "bad.txt", "1 2 3 0 1\n");
+  expect_one_line_error(exao("query --points " + (dir / "bad.txt").string() + " -o " + (dir / "x.txt").string()), "line 1");
+}
+
 }  // namespace
 }  // namespace exao
