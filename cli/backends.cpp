@@ -45,9 +45,12 @@ Result<lut::MaskEngine> Backends::engine(const ShadowRays& rays, lut::MaskMode m
 }
 
 MaskSet Backends::run(Method method, const ShadowRays& rays, const lut::MaskEngine* engine,
-                      std::span<const Receiver> receivers, const ProgressCallback& progress, BackendStats* stats) const {
+                      std::span<const Receiver> receivers, const ProgressCallback& progress, BackendStats* stats,
+                      std::optional<EmbreeRays> embree_rays) const {
+  EmbreeOptions embree_options = options_.embree;
+  if (embree_rays) embree_options.rays = *embree_rays;
   switch (method) {
-    case Method::Embree: return embree_->occlusion(rays, receivers, options_.embree, progress);
+    case Method::Embree: return embree_->occlusion(rays, receivers, embree_options, progress);
     case Method::Brute: return lut::brute_occlusion(*engine, *triangles_, receivers, progress);
     case Method::Bvh: return bvh::occlusion(*bvh_, *engine, receivers, progress, stats ? &stats->traversal : nullptr);
   }

@@ -58,7 +58,7 @@ class Backends {
   /// Masks of `receivers` by `method`. `engine` is required for every method but embree.
   [[nodiscard]] MaskSet run(Method method, const ShadowRays& rays, const lut::MaskEngine* engine,
                             std::span<const Receiver> receivers, const ProgressCallback& progress = {},
-                            BackendStats* stats = nullptr) const;
+                            BackendStats* stats = nullptr, std::optional<EmbreeRays> embree_rays = {}) const;
 
  private:
   BackendOptions options_;

@@ -31,7 +31,8 @@ struct BenchOptions {
   std::vector<int> samples{128, 1024};
   std::vector<std::string> radii{"1%", "5%"};
   std::vector<std::string> methods{"embree", "bvh"};
-  std::vector<std::string> masks{"lut"};
+  std::vector<std::string> masks{"lut", "exact"};
+  std::vector<std::string> embree_rays{"packet8"};
   int repeats = 1;
   std::string json;
   std::string svg;
@@ -75,6 +76,13 @@ int run_bench(const BenchOptions& options) {
     if (!m) return report(m.error());
     modes.push_back(*m);
   }
+  std::vector<EmbreeRays> embree_modes;
+  for (const std::string& name : options.embree_rays) {
+    Result<EmbreeRays> r = parse_embree_rays(name);
+    if (!r) return report(r.error());
+    embree_modes.push_back(*r);
+  }
+  if (embree_modes.empty()) return report(Error{"--embree-rays: give at least one mode"});
   for (const int n : options.samples) {
     if (auto ok = check_sample_count(n); !ok) return report(ok.error());
   }
@@ -116,11 +124,12 @@ int run_bench(const BenchOptions& options) {
         engines[static_cast<int>(mode)] = std::make_unique<lut::MaskEngine>(std::move(*engine));
       }
       // The configurations of this (N, r): Embree first, the reference for every comparison.
-      struct Config { Method method; lut::MaskMode mode; };
-      std::vector<Config> configs{{Method::Embree, lut::MaskMode::Exact}};
+      struct Config { Method method; lut::MaskMode mode; EmbreeRays rays; };
+      std::vector<Config> configs;
+      for (const EmbreeRays r : embree_modes) configs.push_back({Method::Embree, lut::MaskMode::Exact, r});
       for (const Method m : methods) {
         if (m == Method::Embree) continue;
-        for (const lut::MaskMode mode : modes) configs.push_back({m, mode});
+        for (const lut::MaskMode mode : modes) configs.push_back({m, mode, EmbreeRays::Single});
       }
       std::vector<BenchRun> runs(configs.size());
       std::vector<MaskSet> results(configs.size());
@@ -133,7 +142,7 @@ int run_bench(const BenchOptions& options) {
           ProgressBar bar(std::string("bench ") + method_name(config.method));
           const auto start = std::chrono::steady_clock::now();
           MaskSet masks = backends->run(config.method, *rays, engine, pixels.receivers, bar.callback(),
-                                        options.stats ? &stats : nullptr);
+                                        options.stats ? &stats : nullptr, config.rays);
           const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
           bar.finish();
           BenchRun& run = runs[c];
@@ -143,7 +152,7 @@ int run_bench(const BenchOptions& options) {
             run.radius = rays->radius;
             run.radius_text = radius_text;
             run.method = method_name(config.method);
-            run.masks = config.method == Method::Embree ? "rays" : lut::mask_mode_name(config.mode);
+            run.masks = config.method == Method::Embree ? embree_rays_name(config.rays) : lut::mask_mode_name(config.mode);
             run.stats = stats;
             results[c] = std::move(masks);
           }
@@ -184,7 +193,12 @@ Command add_bench_command(CLI::App& app) {
   command->add_option("--falloff", options->rays.falloff, "constant, linear or quadratic")->capture_default_str();
   command->add_option("--offset", options->rays.offset, "Ray origin offset (default 1e-4 of the diagonal)");
   command->add_option("-j,--threads", options->rays.threads, "Worker threads (0: all cores)")->capture_default_str();
-  command->add_option("--embree-rays", options->method.embree_rays, "single, packet4, packet8 or packet16")->capture_default_str();
+  command->add_option("--embree-rays", options->embree_rays,
+                      "Embree modes, a list of single, packet4, packet8, packet16; the first is the reference")
+      ->delimiter(',')
+      ->capture_default_str();
+  command->add_flag("--embree-per-receiver", options->method.embree_per_receiver,
+                    "Embree packets hold neighbouring samples of one receiver");
   command->add_option("--table-resolution", options->method.table_resolution, "Look-up table cells per side (0: default)");
   command->add_option("--branching", options->method.branching, "BVH children per node: 2 or 4")->capture_default_str();
   command->add_option("--repeats", options->repeats, "Interleaved repeats; the fastest time counts")->capture_default_str();

@@ -40,6 +40,8 @@ void add_method_options(CLI::App& app, MethodOptions& options) {
   app.add_option("--masks", options.masks, "Plane masks from the look-up table (lut) or exact tests (exact)")
       ->capture_default_str();
   app.add_option("--embree-rays", options.embree_rays, "single, packet4, packet8 or packet16")->capture_default_str();
+  app.add_flag("--embree-per-receiver", options.embree_per_receiver,
+               "Embree packets hold neighbouring samples of one receiver (default: one sample of neighbouring receivers)");
   app.add_option("--table-resolution", options.table_resolution, "Look-up table cells per side (0: the default for N)")
       ->capture_default_str();
   app.add_option("--branching", options.branching, "BVH children per node: 2 or 4")->capture_default_str();
@@ -50,6 +52,7 @@ Result<BackendOptions> make_backend_options(const MethodOptions& options) {
   Result<EmbreeRays> rays = parse_embree_rays(options.embree_rays);
   if (!rays) return std::unexpected(rays.error());
   out.embree.rays = *rays;
+  out.embree.across_receivers = !options.embree_per_receiver;
   Result<lut::MaskMode> masks = lut::parse_mask_mode(options.masks);
   if (!masks) return std::unexpected(masks.error());
   out.masks = *masks;

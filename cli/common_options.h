@@ -44,6 +44,7 @@ struct MethodOptions {
   std::string method = "bvh";  // embree | brute | bvh
   std::string masks = "lut";   // lut | exact
   std::string embree_rays = "packet8";
+  bool embree_per_receiver = false;  // packets of one receiver's samples instead of one sample of neighbours
   int table_resolution = 0;    // 0: the default for N
   int branching = 4;
 };
