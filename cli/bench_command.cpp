@@ -32,7 +32,7 @@ struct BenchOptions {
   std::vector<std::string> radii{"1%", "5%"};
   std::vector<std::string> methods{"embree", "bvh"};
   std::vector<std::string> masks{"lut", "exact"};
-  std::vector<std::string> embree_rays{"packet8"};
+  std::vector<std::string> embree_rays{"packet16"};
   int repeats = 1;
   std::string json;
   std::string svg;

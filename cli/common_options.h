@@ -43,7 +43,7 @@ struct CameraOptions {
 struct MethodOptions {
   std::string method = "bvh";  // embree | brute | bvh
   std::string masks = "lut";   // lut | exact
-  std::string embree_rays = "packet8";
+  std::string embree_rays = "packet16";
   bool embree_per_receiver = false;  // packets of one receiver's samples instead of one sample of neighbours
   int table_resolution = 0;    // 0: the default for N
   int branching = 4;

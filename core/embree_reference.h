@@ -25,8 +25,10 @@ enum class EmbreeRays { Single, Packet4, Packet8, Packet16 };
 [[nodiscard]] Result<EmbreeRays> parse_embree_rays(const std::string& name);
 
 struct EmbreeOptions {
-  /// The default is the fastest on this project's benchmark machine (see README, `exao bench`).
-  EmbreeRays rays = EmbreeRays::Packet8;
+  /// The default, 16-wide packets of one sample of 16 neighbouring receivers, was the fastest on
+  /// room and Conference, N = 128 and 1024, on the AVX-512 machine exao is developed on (about
+  /// 2x single rays; `exao bench --embree-rays single,packet4,packet8,packet16` measures it).
+  EmbreeRays rays = EmbreeRays::Packet16;
   /// Packets hold the same sample of neighbouring receivers (near-parallel rays from nearby
   /// origins) rather than neighbouring samples of one receiver (rays fanning out from a point).
   bool across_receivers = true;

@@ -145,7 +145,18 @@ template <int Bits>
 // optimal there (and the compiler keeps them in registers), so the intrinsics start at 256.
 namespace simd_detail {
 
+// The bitwise operations use GCC/Clang vector operators (x & ~y) rather than the _mm512_and*
+// intrinsics: same instructions, without GCC 12's false -Wmaybe-uninitialized from inside
+// the intrinsic headers.
 #if defined(EXAO_SIMD_AVX512)
+inline int horizontal_sum(__m512i v) {
+  alignas(64) std::uint64_t lanes[8];
+  _mm512_store_si512(lanes, v);
+  std::uint64_t sum = 0;
+  for (const std::uint64_t x : lanes) sum += x;
+  return static_cast<int>(sum);
+}
+
 // Bits >= 512: whole zmm registers.
 template <int Bits, class Op>
 inline void zip512(std::uint64_t* r, const std::uint64_t* a, const std::uint64_t* b, Op op) {
@@ -174,14 +185,14 @@ inline Mask<Bits>& Mask<Bits>::operator|=(const Mask& o) {
 #if defined(EXAO_SIMD_AVX512)
   if constexpr (Bits >= 512) {
     simd_detail::zip512<Bits>(words.data(), words.data(), o.words.data(),
-                              [](__m512i x, __m512i y) { return _mm512_or_si512(x, y); });
+                              [](__m512i x, __m512i y) { return x | y; });
     return *this;
   }
 #endif
 #if defined(EXAO_SIMD_AVX512) || defined(EXAO_SIMD_AVX2)
   if constexpr (Bits >= 256) {
     simd_detail::zip256<Bits>(words.data(), words.data(), o.words.data(),
-                              [](__m256i x, __m256i y) { return _mm256_or_si256(x, y); });
+                              [](__m256i x, __m256i y) { return x | y; });
     return *this;
   }
 #endif
@@ -193,14 +204,14 @@ inline Mask<Bits>& Mask<Bits>::operator&=(const Mask& o) {
 #if defined(EXAO_SIMD_AVX512)
   if constexpr (Bits >= 512) {
     simd_detail::zip512<Bits>(words.data(), words.data(), o.words.data(),
-                              [](__m512i x, __m512i y) { return _mm512_and_si512(x, y); });
+                              [](__m512i x, __m512i y) { return x & y; });
     return *this;
   }
 #endif
 #if defined(EXAO_SIMD_AVX512) || defined(EXAO_SIMD_AVX2)
   if constexpr (Bits >= 256) {
     simd_detail::zip256<Bits>(words.data(), words.data(), o.words.data(),
-                              [](__m256i x, __m256i y) { return _mm256_and_si256(x, y); });
+                              [](__m256i x, __m256i y) { return x & y; });
     return *this;
   }
 #endif
@@ -213,16 +224,15 @@ template <int Bits>
   Mask<Bits> r;
 #if defined(EXAO_SIMD_AVX512)
   if constexpr (Bits >= 512) {
-    // andnot(x, y) is ~x & y, hence the swapped operands.
-    simd_detail::zip512<Bits>(r.words.data(), b.words.data(), a.words.data(),
-                              [](__m512i x, __m512i y) { return _mm512_andnot_si512(x, y); });
+    simd_detail::zip512<Bits>(r.words.data(), a.words.data(), b.words.data(),
+                              [](__m512i x, __m512i y) { return x & ~y; });
     return r;
   }
 #endif
 #if defined(EXAO_SIMD_AVX512) || defined(EXAO_SIMD_AVX2)
   if constexpr (Bits >= 256) {
-    simd_detail::zip256<Bits>(r.words.data(), b.words.data(), a.words.data(),
-                              [](__m256i x, __m256i y) { return _mm256_andnot_si256(x, y); });
+    simd_detail::zip256<Bits>(r.words.data(), a.words.data(), b.words.data(),
+                              [](__m256i x, __m256i y) { return x & ~y; });
     return r;
   }
 #endif
@@ -235,7 +245,7 @@ inline int Mask<Bits>::popcount() const {
   if constexpr (Bits >= 512) {
     __m512i sum = _mm512_setzero_si512();
     for (int w = 0; w < kWords; w += 8) sum = _mm512_add_epi64(sum, _mm512_popcnt_epi64(_mm512_load_si512(words.data() + w)));
-    return static_cast<int>(_mm512_reduce_add_epi64(sum));
+    return simd_detail::horizontal_sum(sum);
   }
 #endif
   // Below 512 bits (or without VPOPCNTDQ) one POPCNT per word is as fast as it gets.
@@ -270,10 +280,10 @@ template <int Bits>
   if constexpr (Bits >= 512) {
     __m512i sum = _mm512_setzero_si512();
     for (int w = 0; w < Mask<Bits>::kWords; w += 8) {
-      const __m512i x = _mm512_andnot_si512(_mm512_load_si512(b.words.data() + w), _mm512_load_si512(a.words.data() + w));
+      const __m512i x = _mm512_load_si512(a.words.data() + w) & ~_mm512_load_si512(b.words.data() + w);
       sum = _mm512_add_epi64(sum, _mm512_popcnt_epi64(x));
     }
-    return static_cast<int>(_mm512_reduce_add_epi64(sum));
+    return simd_detail::horizontal_sum(sum);
   }
 #endif
   return scalar::popcount_and_not(a, b);
