@@ -201,6 +201,7 @@ Command add_bench_command(CLI::App& app) {
                     "Embree packets hold neighbouring samples of one receiver");
   command->add_option("--table-resolution", options->method.table_resolution, "Look-up table cells per side (0: default)");
   command->add_option("--branching", options->method.branching, "BVH children per node: 2 or 4")->capture_default_str();
+  command->add_option("--leaf-size", options->method.leaf_size, "Most triangles per BVH leaf: 1 to 8")->capture_default_str();
   command->add_option("--repeats", options->repeats, "Interleaved repeats; the fastest time counts")->capture_default_str();
   command->add_option("--json", options->json, "Write the results as JSON");
   command->add_option("--svg", options->svg, "Write a bar chart of Mrays/s as SVG");

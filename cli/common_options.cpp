@@ -45,6 +45,7 @@ void add_method_options(CLI::App& app, MethodOptions& options) {
   app.add_option("--table-resolution", options.table_resolution, "Look-up table cells per side (0: the default for N)")
       ->capture_default_str();
   app.add_option("--branching", options.branching, "BVH children per node: 2 or 4")->capture_default_str();
+  app.add_option("--leaf-size", options.leaf_size, "Most triangles per BVH leaf: 1 to 8")->capture_default_str();
 }
 
 Result<BackendOptions> make_backend_options(const MethodOptions& options) {
@@ -58,6 +59,7 @@ Result<BackendOptions> make_backend_options(const MethodOptions& options) {
   out.masks = *masks;
   out.table_resolution = options.table_resolution;
   out.bvh.branching = options.branching;
+  out.bvh.max_leaf_size = options.leaf_size;
   return out;
 }
 

@@ -47,6 +47,7 @@ struct MethodOptions {
   bool embree_per_receiver = false;  // packets of one receiver's samples instead of one sample of neighbours
   int table_resolution = 0;    // 0: the default for N
   int branching = 4;
+  int leaf_size = 8;
 };
 
 void add_scene_options(CLI::App& app, SceneOptions& options);

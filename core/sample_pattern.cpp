@@ -1,8 +1,12 @@
 #include "core/sample_pattern.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <fstream>
+#include <map>
+#include <mutex>
+#include <tuple>
 #include <numeric>
 #include <sstream>
 
@@ -164,6 +168,39 @@ void equalise_radii(std::vector<glm::dvec2>& sites, Rng& rng) {
   }
 }
 
+// Position of (x, y) in [0, 2^16)^2 along a Hilbert curve.
+std::uint64_t hilbert_index(std::uint32_t x, std::uint32_t y) {
+  std::uint64_t d = 0;
+  for (std::uint32_t s = 1u << 15; s > 0; s >>= 1) {
+    const std::uint32_t rx = (x & s) ? 1 : 0;
+    const std::uint32_t ry = (y & s) ? 1 : 0;
+    d += static_cast<std::uint64_t>(s) * s * ((3 * rx) ^ ry);
+    if (ry == 0) {  // rotate the quadrant so the curve stays continuous
+      if (rx == 1) {
+        x = s - 1 - (x & (s - 1));
+        y = s - 1 - (y & (s - 1));
+      }
+      std::swap(x, y);
+    }
+  }
+  return d;
+}
+
+// Orders the samples along a Hilbert curve over the disc, so that the 64 rays of one mask word
+// point into one compact patch of the hemisphere: a triangle's or a node's mask then touches few
+// words, and kernels can skip the words a cone cannot reach.
+void order_along_curve(std::vector<glm::dvec2>& sites) {
+  std::vector<std::pair<std::uint64_t, std::size_t>> keyed(sites.size());
+  for (std::size_t i = 0; i < sites.size(); ++i) {
+    const auto q = [](double v) { return static_cast<std::uint32_t>(std::clamp((v + 1.0) * 0.5, 0.0, 1.0) * 65535.0); };
+    keyed[i] = {hilbert_index(q(sites[i].x), q(sites[i].y)), i};
+  }
+  std::sort(keyed.begin(), keyed.end());
+  std::vector<glm::dvec2> sorted(sites.size());
+  for (std::size_t i = 0; i < keyed.size(); ++i) sorted[i] = sites[keyed[i].second];
+  sites = std::move(sorted);
+}
+
 void finish(SamplePattern& pattern) {
   pattern.points.resize(pattern.directions.size());
   float min_z = 1.0f;
@@ -201,6 +238,23 @@ Result<void> check_sample_count(int count) {
 
 Result<SamplePattern> make_sample_pattern(int count, Falloff falloff, std::uint64_t seed) {
   if (auto ok = check_sample_count(count); !ok) return std::unexpected(ok.error());
+  // Building a pattern takes a good fraction of a second at N = 1024; a process that asks for
+  // the same one again (bench, tests, a renderer with several engines) gets the first copy.
+  static std::mutex cache_mutex;
+  static std::map<std::tuple<int, Falloff, std::uint64_t>, SamplePattern> cache;
+  const auto key = std::make_tuple(count, falloff, seed);
+  {
+    std::lock_guard lock(cache_mutex);
+    if (const auto found = cache.find(key); found != cache.end()) return found->second;
+  }
+  SamplePattern pattern = build_sample_pattern(count, falloff, seed);
+  std::lock_guard lock(cache_mutex);
+  cache.emplace(key, pattern);
+  return pattern;
+}
+
+SamplePattern build_sample_pattern(int count, Falloff falloff, std::uint64_t seed) {
+  assert(check_sample_count(count).has_value());
   Rng rng(mix64(seed) ^ static_cast<std::uint64_t>(count));
 
   DiscLloyd lloyd(count, rng);
@@ -211,6 +265,7 @@ Result<SamplePattern> make_sample_pattern(int count, Falloff falloff, std::uint6
   lloyd.jitter(sites, rng);
   for (int step = 0; step < 3; ++step) lloyd.relax(sites);
   equalise_radii(sites, rng);
+  order_along_curve(sites);
 
   SamplePattern pattern;
   pattern.count = count;

@@ -41,13 +41,18 @@ inline constexpr int kMaxSamples = 1024;
 
 /// Builds the pattern: N random points on the unit disc, Lloyd-relaxed, each moved to a random
 /// point of its Voronoi cell, relaxed a little more, radii re-spaced to stratified levels of r^2
-/// (so the horizon is sampled as densely as the rest), and lifted to the hemisphere
+/// (so the horizon is sampled as densely as the rest), ordered along a Hilbert curve over the disc
+/// (so each 64-ray mask word covers one compact patch of directions), and lifted to the hemisphere
 /// (z = sqrt(1 - x^2 - y^2)), which makes the directions cosine-weighted. Lengths come from the
 /// falloff's inverse CDF at stratified, randomly permuted levels, so that the expected value of
 /// Eq. 3 equals Eq. 2. Deterministic for (count, falloff, seed); single-threaded, well under a
-/// second at N = 1024.
+/// second at N = 1024, and cached for the life of the process (thread-safe).
 [[nodiscard]] Result<SamplePattern> make_sample_pattern(int count, Falloff falloff,
                                                         std::uint64_t seed = kDefaultPatternSeed);
+
+/// The same without the process-wide cache that make_sample_pattern keeps; `count` must pass
+/// check_sample_count. For tests of determinism.
+[[nodiscard]] SamplePattern build_sample_pattern(int count, Falloff falloff, std::uint64_t seed);
 
 /// Saves as text: a header line, then one "x y z length" line per sample with enough digits that
 /// loading gives back the same floats. Written to a temporary file, then renamed.
