@@ -47,8 +47,9 @@ Result<void> write_atomically(const std::string& path,
   if (::access(folder.c_str(), W_OK) != 0) return fail(path + ": folder " + folder.string() + " is not writable");
   if (fs::is_directory(target, ec)) return fail(path + ": is a folder, not a file");
 
-  const std::string temp_path =
-      (folder / ("." + target.filename().string() + ".tmp-" + std::to_string(::getpid()))).string();
+  std::string temp_name = ".";
+  temp_name.append(target.filename().string()).append(".tmp-").append(std::to_string(::getpid()));
+  const std::string temp_path = (folder / temp_name).string();
   const int slot = claim_slot(temp_path);
   Result<void> written = write(temp_path);
   if (written) {

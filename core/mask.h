@@ -7,8 +7,10 @@
 // The instruction set is chosen here, once, for all of exao's mask and sample kernels:
 //   EXAO_SIMD_AVX512  AVX-512 F/BW/VL (and VPOPCNTDQ when present) — 16 float lanes;
 //   EXAO_SIMD_AVX2    AVX2 — 8 float lanes;
-//   neither           the scalar twin (also forced with -DEXAO_FORCE_SCALAR, the CMake option
+//   EXAO_SIMD_SSE2    SSE2, which every x86-64 has (the portable build) — 4 float lanes;
+//   none              the scalar twin (also forced with -DEXAO_FORCE_SCALAR, the CMake option
 //                     EXAO_FORCE_SCALAR of lut/).
+// Mask operations themselves use 512- or 256-bit registers when there are some, else words.
 // Every vectorised operation has a scalar twin in exao::scalar, and tests/mask_test.cpp checks
 // that both agree bit for bit.
 
@@ -25,10 +27,12 @@
 #define EXAO_SIMD_AVX512 1
 #elif defined(__AVX2__)
 #define EXAO_SIMD_AVX2 1
+#elif defined(__SSE2__)
+#define EXAO_SIMD_SSE2 1
 #endif
 #endif
 
-#if defined(EXAO_SIMD_AVX512) || defined(EXAO_SIMD_AVX2)
+#if defined(EXAO_SIMD_AVX512) || defined(EXAO_SIMD_AVX2) || defined(EXAO_SIMD_SSE2)
 #include <immintrin.h>
 #endif
 
@@ -40,6 +44,8 @@ namespace exao {
   return "avx512";
 #elif defined(EXAO_SIMD_AVX2)
   return "avx2";
+#elif defined(EXAO_SIMD_SSE2)
+  return "sse2";
 #else
   return "scalar";
 #endif
@@ -244,7 +250,9 @@ inline int Mask<Bits>::popcount() const {
 #if defined(EXAO_SIMD_AVX512) && defined(__AVX512VPOPCNTDQ__)
   if constexpr (Bits >= 512) {
     __m512i sum = _mm512_setzero_si512();
-    for (int w = 0; w < kWords; w += 8) sum = _mm512_add_epi64(sum, _mm512_popcnt_epi64(_mm512_load_si512(words.data() + w)));
+    for (int w = 0; w < kWords; w += 8) {
+      sum = _mm512_add_epi64(sum, _mm512_popcnt_epi64(_mm512_load_si512(words.data() + w)));
+    }
     return simd_detail::horizontal_sum(sum);
   }
 #endif

@@ -1,7 +1,8 @@
 #pragma once
-// exao::lut::Lanes: a few float operations over W lanes at once, in three twins (AVX-512: 16,
-// AVX2: 8, scalar: 1), so that each sample kernel is written once as a template and compiled for
-// the instruction set core/mask.h chose, and for the scalar twin the tests compare it to.
+// exao::lut::Lanes: a few float operations over W lanes at once, in four twins (AVX-512: 16,
+// AVX2: 8, SSE2: 4, scalar: 1), so that each sample kernel is written once as a template and
+// compiled for the instruction set core/mask.h chose, and for the scalar twin the tests compare
+// it to.
 //
 // Exactness: every twin evaluates the same expression tree with separate IEEE multiplies and
 // adds (no FMA; exao_options builds with -ffp-contract=off), and the comparisons are ordered
@@ -76,6 +77,26 @@ struct Avx2Lanes {
   static std::uint64_t bits(M m) { return static_cast<std::uint32_t>(_mm256_movemask_ps(m)); }
 };
 using NativeLanes = Avx2Lanes;
+#elif defined(EXAO_SIMD_SSE2)
+struct Sse2Lanes {
+  static constexpr int kWidth = 4;
+  using F = __m128;
+  using M = __m128;  // all-ones or all-zeros per lane
+  static F load(const float* p) { return _mm_load_ps(p); }
+  static F set(float x) { return _mm_set1_ps(x); }
+  static F add(F a, F b) { return _mm_add_ps(a, b); }
+  static F sub(F a, F b) { return _mm_sub_ps(a, b); }
+  static F mul(F a, F b) { return _mm_mul_ps(a, b); }
+  static F min(F a, F b) { return _mm_min_ps(a, b); }
+  static F max(F a, F b) { return _mm_max_ps(a, b); }
+  static M ge(F a, F b) { return _mm_cmpge_ps(a, b); }
+  static M gt(F a, F b) { return _mm_cmpgt_ps(a, b); }
+  static M le(F a, F b) { return _mm_cmple_ps(a, b); }
+  static M both(M a, M b) { return _mm_and_ps(a, b); }
+  static M either(M a, M b) { return _mm_or_ps(a, b); }
+  static std::uint64_t bits(M m) { return static_cast<std::uint32_t>(_mm_movemask_ps(m)); }
+};
+using NativeLanes = Sse2Lanes;
 #else
 using NativeLanes = ScalarLanes;
 #endif

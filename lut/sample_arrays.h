@@ -38,7 +38,9 @@ class SampleArrays {
   explicit SampleArrays(const SamplePattern& pattern)
       : count_(pattern.count), bits_(mask_bits_for(pattern.count)) {
     const float nan = std::numeric_limits<float>::quiet_NaN();
-    for (AlignedFloats* a : {&px_, &py_, &pz_, &wx_, &wy_, &wz_, &length_}) a->assign(static_cast<std::size_t>(bits_), nan);
+    for (AlignedFloats* a : {&px_, &py_, &pz_, &wx_, &wy_, &wz_, &length_}) {
+      a->assign(static_cast<std::size_t>(bits_), nan);
+    }
     for (int i = 0; i < count_; ++i) {
       px_[i] = pattern.points[i].x;
       py_[i] = pattern.points[i].y;
@@ -95,7 +97,9 @@ template <class L, int Bits>
   const float* pz = samples.pz();
   return gather_bits<L, Bits>([&](int i) {
     const auto x = L::load(px + i), y = L::load(py + i), z = L::load(pz + i);
-    const auto dot = [&](auto mx, auto my, auto mz) { return L::add(L::add(L::mul(mx, x), L::mul(my, y)), L::mul(mz, z)); };
+    const auto dot = [&](auto mx, auto my, auto mz) {
+      return L::add(L::add(L::mul(mx, x), L::mul(my, y)), L::mul(mz, z));
+    };
     auto m = L::ge(dot(fx, fy, fz), fd);
     m = L::both(m, L::ge(dot(e0x, e0y, e0z), zero));
     m = L::both(m, L::ge(dot(e1x, e1y, e1z), zero));

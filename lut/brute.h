@@ -1,0 +1,29 @@
+#pragma once
+// exao::lut::brute_occlusion: the `brute` backend (DESIGN.md section 5): for every receiver, the
+// OR of triangle_mask over every triangle of the scene. The definition the accelerated backends
+// must reproduce bit for bit (DESIGN.md section 8).
+
+#include <span>
+
+#include "core/mask_set.h"
+#include "core/progress.h"
+#include "core/receiver_frame.h"
+#include "lut/mask_engine.h"
+#include "lut/triangle_set.h"
+
+namespace exao::lut {
+
+/// One mask per receiver, in the receivers' order: OR over all triangles t of
+/// engine.triangle_mask(triangles, t, frame). A uniform grid over the triangles' influence
+/// spheres (bounding sphere grown by r, and a little more for rounding) skips only triangles
+/// that triangle_mask's influence-sphere test rejects, so the result is exactly the OR over all
+/// triangles. Multithreaded with TBB; progress in receivers.
+[[nodiscard]] MaskSet brute_occlusion(const MaskEngine& engine, const TriangleSet& triangles,
+                                      std::span<const Receiver> receivers, const ProgressCallback& progress = {});
+
+/// The same without the grid: literally every triangle for every receiver. For tests of the
+/// grid on small inputs; O(receivers x triangles).
+[[nodiscard]] MaskSet brute_occlusion_every_triangle(const MaskEngine& engine, const TriangleSet& triangles,
+                                                     std::span<const Receiver> receivers);
+
+}  // namespace exao::lut
