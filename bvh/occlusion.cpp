@@ -9,6 +9,7 @@
 #include <tbb/parallel_sort.h>
 
 #include "core/bounds.h"
+#include "lut/float_mode.h"
 
 namespace exao::bvh {
 namespace {
@@ -49,6 +50,7 @@ void run(const Bvh& bvh, const lut::MaskEngine& engine, std::span<const Receiver
   ProgressCounter counter(progress, receivers.size());
   tbb::combinable<TraversalStats> local;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 64), [&](const tbb::blocked_range<std::size_t>& range) {
+    const lut::FlushDenormals flush;  // the same float mode as every other backend
     TraversalStats& mine = local.local();
     for (std::size_t i = range.begin(); i < range.end(); ++i) {
       const std::uint32_t r = order[i];
