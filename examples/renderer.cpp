@@ -1,0 +1,366 @@
+// exao_renderer: a small offline renderer that uses exao as a drop-in for its AO ray loop.
+//
+// Embree traces the camera rays, the mirror reflections, one diffuse bounce and the shadow rays
+// of a point light; exao gives the ambient occlusion at every diffuse shading point, wherever it
+// is: seen directly, in a mirror, or through the bounce. A screen-space or rasterised AO knows
+// only the points the camera sees directly, so it cannot shade the other two kinds.
+//
+// The scene is exao's built-in room with two mirrors added by this program: a mirror on the
+// right wall and a mirror ball on the floor. Uses only the public API (exao/exao.hpp), Embree
+// and libpng.
+//
+//     exao_renderer [-o renderer.png] [-W 960] [-H 540] [--spp 4] [--samples 64] [--radius 1]
+
+#include <embree3/rtcore.h>
+#include <png.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <exao/exao.hpp>
+
+namespace {
+
+using exao::api::Vec3;
+
+Vec3 operator+(Vec3 a, Vec3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+Vec3 operator-(Vec3 a, Vec3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+Vec3 operator*(float s, Vec3 a) { return {s * a.x, s * a.y, s * a.z}; }
+Vec3 operator*(Vec3 a, Vec3 b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
+float dot(Vec3 a, Vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+Vec3 cross(Vec3 a, Vec3 b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
+Vec3 normalize(Vec3 a) { return (1.0f / std::sqrt(dot(a, a))) * a; }
+
+// --- The scene: exao's room plus the example's own mirrors ----------------------------------
+
+struct Geometry {
+  std::vector<float> positions;       // 9 floats per triangle: the room, then the mirrors
+  std::vector<std::uint8_t> two_sided;
+  std::size_t first_mirror = 0;       // triangles from here on are mirrors
+  std::size_t first_ball = 0;         // ... and from here on the mirror ball's
+  Vec3 ball_centre;
+  exao::api::Camera camera;
+};
+
+void add_triangle(Geometry& g, Vec3 a, Vec3 b, Vec3 c) {
+  g.positions.insert(g.positions.end(), {a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z});
+  g.two_sided.push_back(0);  // one-sided, front faces counter-clockwise: they face the room
+}
+
+// A UV sphere, faces outward.
+void add_sphere(Geometry& g, Vec3 centre, float radius, int slices, int stacks) {
+  const auto point = [&](int i, int j) {
+    const float phi = 6.2831853f * static_cast<float>(i) / static_cast<float>(slices);
+    const float theta = 3.1415927f * static_cast<float>(j) / static_cast<float>(stacks);
+    return centre + radius * Vec3{std::sin(theta) * std::cos(phi), std::cos(theta), -std::sin(theta) * std::sin(phi)};
+  };
+  for (int j = 0; j < stacks; ++j) {
+    for (int i = 0; i < slices; ++i) {
+      const Vec3 a = point(i, j), b = point(i, j + 1), c = point(i + 1, j + 1), d = point(i + 1, j);
+      if (j > 0) add_triangle(g, a, b, d);
+      if (j < stacks - 1) add_triangle(g, d, b, c);
+    }
+  }
+}
+
+Geometry make_scene() {
+  exao::api::Result<exao::api::SceneData> room = exao::api::load_scene("room");
+  if (!room) {
+    std::fprintf(stderr, "exao_renderer: %s\n", room.error().message.c_str());
+    std::exit(1);
+  }
+  Geometry g;
+  g.positions = room->positions;
+  g.two_sided = room->two_sided;
+  g.camera = room->cameras.front();
+  g.first_mirror = g.two_sided.size();
+  // A 5 x 3 mirror on the right wall (x = 5), 2 mm in front of it, facing -X.
+  const float x = 4.998f;
+  const Vec3 a{x, 0.5f, 2.6f}, b{x, 0.5f, -2.4f}, c{x, 3.5f, -2.4f}, d{x, 3.5f, 2.6f};
+  add_triangle(g, a, b, c);
+  add_triangle(g, a, c, d);
+  // A mirror ball on the floor, near the camera: it shows the room behind the camera.
+  g.first_ball = g.two_sided.size();
+  g.ball_centre = {-1.2f, 0.7f, 1.3f};
+  add_sphere(g, g.ball_centre, 0.7f, 64, 32);
+  return g;
+}
+
+// --- Embree: the renderer's own ray tracer ---------------------------------------------------
+
+struct Tracer {
+  RTCDevice device = nullptr;
+  RTCScene scene = nullptr;
+
+  explicit Tracer(const Geometry& g) {
+    device = rtcNewDevice(nullptr);
+    scene = rtcNewScene(device);
+    const std::size_t n = g.two_sided.size();
+    RTCGeometry mesh = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(mesh, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                          3 * sizeof(float), 3 * n));
+    auto* index = static_cast<unsigned*>(rtcSetNewGeometryBuffer(mesh, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                                 3 * sizeof(unsigned), n));
+    std::memcpy(v, g.positions.data(), g.positions.size() * sizeof(float));
+    for (unsigned i = 0; i < 3 * n; ++i) index[i] = i;
+    rtcCommitGeometry(mesh);
+    rtcAttachGeometry(scene, mesh);
+    rtcReleaseGeometry(mesh);
+    rtcCommitScene(scene);
+  }
+  ~Tracer() {
+    rtcReleaseScene(scene);
+    rtcReleaseDevice(device);
+  }
+
+  struct Hit {
+    float t;
+    unsigned triangle;
+  };
+  // Nearest hit along o + t d, t in (near, far); triangle = RTC_INVALID_GEOMETRY_ID on a miss.
+  Hit intersect(Vec3 o, Vec3 d, float near, float far) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRayHit q{};
+    q.ray = {o.x, o.y, o.z, near, d.x, d.y, d.z, 0.0f, far, 0xFFFFFFFFu, 0, 0};
+    q.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(scene, &context, &q);
+    return {q.ray.tfar, q.hit.geomID == RTC_INVALID_GEOMETRY_ID ? RTC_INVALID_GEOMETRY_ID : q.hit.primID};
+  }
+  bool occluded(Vec3 o, Vec3 d, float far) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRay ray{o.x, o.y, o.z, 0.0f, d.x, d.y, d.z, 0.0f, far, 0xFFFFFFFFu, 0, 0};
+    rtcOccluded1(scene, &context, &ray);
+    return ray.tfar < 0.0f;
+  }
+};
+
+// --- Shading ---------------------------------------------------------------------------------
+
+struct Renderer {
+  const Geometry& g;
+  const Tracer& tracer;
+  const exao::api::Engine& ao;
+  int width = 960, height = 540, spp = 4, bounces = 2;
+  Vec3 light{0.2f, 3.6f, 0.4f};  // a point light under the ceiling
+  float light_power = 9.0f;
+  float ambient = 0.8f;
+  mutable std::atomic<int> ao_failures{0};  // queries that returned an error (none expected)
+
+  Vec3 vertex(unsigned t, int j) const {
+    const float* p = g.positions.data() + 9 * t + 3 * j;
+    return {p[0], p[1], p[2]};
+  }
+  Vec3 face_normal(unsigned t) const {
+    const Vec3 a = vertex(t, 0);
+    return normalize(cross(vertex(t, 1) - a, vertex(t, 2) - a));
+  }
+
+  // Diffuse colour by where a point is: floor, ceiling, walls, and the room's objects.
+  static Vec3 albedo(Vec3 p, Vec3 n) {
+    if (p.y < 0.001f && n.y > 0.9f) return {0.62f, 0.45f, 0.30f};                   // wooden floor
+    if (p.y > 3.999f) return {0.85f, 0.85f, 0.82f};                                  // ceiling
+    if (std::abs(p.x) > 4.999f) return p.x < 0.0f ? Vec3{0.55f, 0.68f, 0.78f} : Vec3{0.80f, 0.78f, 0.72f};
+    if (std::abs(p.z) > 3.999f) return {0.80f, 0.78f, 0.72f};                       // walls
+    const Vec3 ball = p - Vec3{1.6f, 0.9f, 0.6f};
+    if (dot(ball, ball) < 0.83f) return {0.75f, 0.30f, 0.22f};                       // the sphere
+    if (p.x > 3.1f) return {0.70f, 0.70f, 0.70f};                                     // the column
+    return {0.25f, 0.52f, 0.55f};                                                     // the boxes
+  }
+
+  // A cosine-weighted direction about n from two numbers in [0, 1).
+  static Vec3 cosine_direction(Vec3 n, float u, float v) {
+    const Vec3 t = normalize(std::abs(n.x) > 0.5f ? cross(n, {0, 1, 0}) : cross(n, {1, 0, 0}));
+    const Vec3 b = cross(n, t);
+    const float r = std::sqrt(u), phi = 6.2831853f * v;
+    return r * std::cos(phi) * t + r * std::sin(phi) * b + std::sqrt(std::max(0.0f, 1.0f - u)) * n;
+  }
+
+  static float hash_float(std::uint64_t x) {
+    x += 0x9E3779B97F4A7C15ull;
+    x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+    x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+    return static_cast<float>((x ^ (x >> 31)) >> 40) * (1.0f / 16777216.0f);
+  }
+
+  // Radiance arriving along o + t d. `key` identifies the path; depth 0 is the camera ray.
+  Vec3 radiance(Vec3 o, Vec3 d, std::uint64_t key, int depth) const {
+    for (int mirror_bounces = 0; mirror_bounces < 6; ++mirror_bounces) {
+      const Tracer::Hit hit = tracer.intersect(o, d, 1e-4f, 1e30f);
+      if (hit.triangle == RTC_INVALID_GEOMETRY_ID) return {0, 0, 0};
+      const Vec3 p = o + hit.t * d;
+      // The ball reflects with the true sphere's normal (smooth), everything else is flat.
+      Vec3 n = hit.triangle >= g.first_ball ? normalize(p - g.ball_centre) : face_normal(hit.triangle);
+      if (dot(n, d) > 0.0f) n = -1.0f * n;  // the side the ray arrives from
+      if (hit.triangle >= g.first_mirror) {  // a mirror: follow the reflection
+        o = p;
+        d = d - 2.0f * dot(d, n) * n;
+        continue;
+      }
+      return shade(p, n, key, depth);
+    }
+    return {0, 0, 0};
+  }
+
+  // A diffuse point: direct light with a shadow ray, ambient light times exao's AO, and (from
+  // the camera's points only) one diffuse bounce, whose points get their own AO too.
+  Vec3 shade(Vec3 p, Vec3 n, std::uint64_t key, int depth) const {
+    const Vec3 colour = albedo(p, n);
+    const Vec3 lift = p + 1e-4f * n;
+    Vec3 to_light = light - p;
+    const float distance2 = std::max(dot(to_light, to_light), 0.25f);  // no hot spot under the light
+    to_light = (1.0f / std::sqrt(distance2)) * to_light;
+    float direct = 0.0f;
+    const float cosine = dot(n, to_light);
+    if (cosine > 0.0f && !tracer.occluded(lift, to_light, std::sqrt(distance2) - 1e-3f)) {
+      direct = light_power * cosine / (4.0f * 3.1415927f * distance2) * 3.1415927f;
+    }
+    // --- exao: the AO at this shading point, in one call (any thread, any point). ---
+    const exao::api::Result<float> occlusion = ao.ao(p, n, key);
+    if (!occlusion) ++ao_failures;
+    const float open = occlusion.value_or(1.0f);
+    Vec3 light_in = {direct + ambient * open, direct + ambient * open, direct + ambient * open};
+    if (depth == 0 && bounces > 0) {
+      Vec3 indirect{0, 0, 0};
+      for (int b = 0; b < bounces; ++b) {
+        const std::uint64_t bounce_key = key * 8 + static_cast<std::uint64_t>(b) + 1;
+        const Vec3 dir = cosine_direction(n, hash_float(bounce_key), hash_float(~bounce_key));
+        const Vec3 in = radiance(lift, dir, bounce_key, depth + 1);
+        indirect = indirect + Vec3{std::min(in.x, 1.0f), std::min(in.y, 1.0f), std::min(in.z, 1.0f)};  // no fireflies
+      }
+      light_in = light_in + (0.6f / static_cast<float>(bounces)) * indirect;
+    }
+    return colour * light_in;
+  }
+
+  Vec3 pixel(int x, int y) const {
+    const exao::api::Camera& c = g.camera;
+    const Vec3 right = cross(c.forward, c.up);
+    const float tan_half = std::tan(0.5f * c.yfov);
+    const float aspect = static_cast<float>(width) / static_cast<float>(height);
+    Vec3 sum{0, 0, 0};
+    for (int s = 0; s < spp; ++s) {
+      const std::uint64_t key = (static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(width) +
+                                 static_cast<std::uint64_t>(x)) * static_cast<std::uint64_t>(spp) + static_cast<std::uint64_t>(s);
+      const float jx = hash_float(key * 2), jy = hash_float(key * 2 + 1);  // anti-aliasing jitter
+      const float sx = (2.0f * (static_cast<float>(x) + jx) / static_cast<float>(width) - 1.0f) * tan_half * aspect;
+      const float sy = (1.0f - 2.0f * (static_cast<float>(y) + jy) / static_cast<float>(height)) * tan_half;
+      sum = sum + radiance(c.eye, normalize(c.forward + sx * right + sy * c.up), key * 16, 0);
+    }
+    return (1.0f / static_cast<float>(spp)) * sum;
+  }
+};
+
+// --- Output ----------------------------------------------------------------------------------
+
+bool write_png(const std::string& path, int width, int height, const std::vector<std::uint8_t>& rgb) {
+  std::FILE* file = std::fopen(path.c_str(), "wb");
+  if (!file) return false;
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+  png_infop info = png ? png_create_info_struct(png) : nullptr;
+  if (!png || !info || setjmp(png_jmpbuf(png))) {
+    png_destroy_write_struct(&png, &info);
+    std::fclose(file);
+    return false;
+  }
+  png_init_io(png, file);
+  png_set_IHDR(png, info, static_cast<png_uint_32>(width), static_cast<png_uint_32>(height), 8, PNG_COLOR_TYPE_RGB,
+               PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  png_write_info(png, info);
+  for (int y = 0; y < height; ++y) {
+    png_write_row(png, rgb.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(width) * 3);
+  }
+  png_write_end(png, nullptr);
+  png_destroy_write_struct(&png, &info);
+  return std::fclose(file) == 0;
+}
+
+std::uint8_t to_srgb8(float linear) {
+  const float exposed = 0.85f * linear;
+  const float mapped = exposed / (1.0f + 0.25f * exposed);  // gentle highlight roll-off
+  const float v = std::pow(std::clamp(mapped, 0.0f, 1.0f), 1.0f / 2.2f);
+  return static_cast<std::uint8_t>(std::lround(255.0f * v));
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string output = "renderer.png";
+  int width = 960, height = 540, spp = 4, samples = 64;
+  float radius = 1.0f;
+  for (int i = 1; i + 1 < argc; i += 2) {
+    const std::string flag = argv[i], value = argv[i + 1];
+    if (flag == "-o") output = value;
+    else if (flag == "-W") width = std::atoi(value.c_str());
+    else if (flag == "-H") height = std::atoi(value.c_str());
+    else if (flag == "--spp") spp = std::atoi(value.c_str());
+    else if (flag == "--samples") samples = std::atoi(value.c_str());
+    else if (flag == "--radius") radius = std::strtof(value.c_str(), nullptr);
+    else {
+      std::fprintf(stderr, "usage: exao_renderer [-o out.png] [-W 960] [-H 540] [--spp 4] [--samples 64] [--radius 1]\n");
+      return 2;
+    }
+  }
+  if (width < 1 || height < 1 || spp < 1) {
+    std::fprintf(stderr, "exao_renderer: -W, -H and --spp must be positive\n");
+    return 2;
+  }
+
+  const Geometry g = make_scene();
+  const Tracer tracer(g);
+
+  // exao: one engine for the whole scene, mirrors included (they occlude too), built once.
+  exao::api::Mesh mesh;
+  mesh.vertices = g.positions.data();
+  mesh.vertex_count = g.positions.size() / 3;
+  mesh.triangle_count = g.two_sided.size();
+  mesh.two_sided = g.two_sided.data();
+  exao::api::Options options;
+  options.radius = radius;
+  options.samples = samples;
+  exao::api::Result<exao::api::Engine> engine = exao::api::Engine::build(mesh, options);
+  if (!engine) {
+    std::fprintf(stderr, "exao_renderer: %s\n", engine.error().message.c_str());
+    return 1;
+  }
+
+  Renderer renderer{g, tracer, *engine};
+  renderer.width = width;
+  renderer.height = height;
+  renderer.spp = spp;
+  std::vector<std::uint8_t> rgb(static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 3);
+  std::atomic<int> next_row{0};
+  std::vector<std::thread> workers;
+  const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+  for (unsigned w = 0; w < cores; ++w) {
+    workers.emplace_back([&] {
+      for (int y = next_row++; y < height; y = next_row++) {
+        for (int x = 0; x < width; ++x) {
+          const Vec3 c = renderer.pixel(x, y);
+          std::uint8_t* out = rgb.data() + (static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x)) * 3;
+          out[0] = to_srgb8(c.x);
+          out[1] = to_srgb8(c.y);
+          out[2] = to_srgb8(c.z);
+        }
+      }
+    });
+  }
+  for (std::thread& worker : workers) worker.join();
+  if (renderer.ao_failures > 0) std::fprintf(stderr, "exao_renderer: %d AO queries failed\n", renderer.ao_failures.load());
+  if (!write_png(output, width, height, rgb)) {
+    std::fprintf(stderr, "exao_renderer: %s: cannot write\n", output.c_str());
+    return 1;
+  }
+  std::printf("%s: %d x %d, %d samples per pixel, AO N = %d, r = %g (%s backend)\n", output.c_str(), width, height, spp,
+              samples, static_cast<double>(radius), "bvh");
+  return 0;
+}
