@@ -13,5 +13,6 @@ Command add_render_command(CLI::App& app);
 Command add_info_command(CLI::App& app);
 Command add_bench_command(CLI::App& app);
 Command add_query_command(CLI::App& app);
+Command add_bake_command(CLI::App& app);
 
 }  // namespace exao::cli

@@ -16,7 +16,7 @@
 namespace exao {
 namespace {
 
-constexpr int kLloydSteps = 60;
+constexpr int kLloydSteps = 40;
 
 // Lloyd relaxation on the unit disc, with the disc represented by many fixed density points:
 // a Voronoi cell's centroid is the mean of the density points nearest its site. A uniform
@@ -24,10 +24,10 @@ constexpr int kLloydSteps = 60;
 class DiscLloyd {
  public:
   DiscLloyd(int sites, Rng& rng) : sites_(static_cast<std::size_t>(sites)) {
-    // Jittered-grid density points inside the disc, about 192 per site (at least 64K): enough
+    // Jittered-grid density points inside the disc, about 128 per site (at least 16K): enough
     // that a cell's centroid is within a small fraction of the site spacing of the true one.
     const int per_side =
-        static_cast<int>(std::ceil(std::sqrt(std::max(65536.0, 192.0 * sites) * 4.0 / M_PI)));
+        static_cast<int>(std::ceil(std::sqrt(std::max(16384.0, 128.0 * sites) * 4.0 / M_PI)));
     const double h = 2.0 / per_side;
     for (int j = 0; j < per_side; ++j) {
       for (int i = 0; i < per_side; ++i) {
