@@ -1,0 +1,76 @@
+#pragma once
+// exao::bake::bake: AO baked into a glTF model (issue 6), per vertex or per texel. The AO itself
+// comes from the caller (any backend of DESIGN.md section 5), so the bake only decides where the
+// receivers are and where their values go.
+
+#include <cstdint>
+#include <functional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "bake/document.h"
+#include "core/error.h"
+#include "core/progress.h"
+#include "core/receiver_frame.h"
+
+namespace exao::bake {
+
+enum class Target { Vertex, Texture };
+enum class VertexChannel { Color, Attribute };  // COLOR_0 (multiplied into an existing one), or _AO
+enum class NormalSource { Geometric, File };     // area-weighted face normals, or the file's NORMAL
+
+struct BakeOptions {
+  Target target = Target::Vertex;
+  VertexChannel channel = VertexChannel::Color;
+  NormalSource normals = NormalSource::Geometric;
+  int texture_size = 1024;     // texels per side of each AO map, 16 to 16384
+  int uv_set = 0;              // TEXCOORD_<uv_set> lays the maps out
+  int texel_samples = 4;       // receivers per texel: a square number (1 = the texel centre)
+  int margin = 4;              // dilation rings around each chart, texels (0 to 64)
+};
+
+/// AO (1 open, 0 occluded) of each receiver, in order; progress in receivers. The bake calls it
+/// with batches of at most kBatch receivers, so the masks of a large map never sit in memory at once.
+using AoFunction = std::function<std::vector<float>(std::span<const Receiver>, const ProgressCallback&)>;
+inline constexpr std::size_t kBatch = std::size_t{1} << 20;
+
+/// One AO map: every primitive (of the default scene) with the same material shares it.
+struct AoMap {
+  int material = -1;                 // glTF material it belongs to (-1: primitives without one)
+  std::string label;                 // for file names: "" when it is the only map, else "m<index>"
+  int size = 0;                      // width = height
+  std::vector<float> ao;             // size * size, row-major from the top row (v = 0)
+  std::vector<std::uint8_t> filled;  // 1 covered by a triangle, 2 filled by the margin, 0 background
+  std::size_t covered_texels = 0;
+  std::size_t overlap_texels = 0;
+  int image = -1;                    // the glTF image that will hold it
+};
+
+struct BakeResult {
+  Target target = Target::Vertex;
+  std::vector<Receiver> receivers;   // everything the AO function was asked about
+  std::vector<float> ao;             // its answers
+  std::vector<AoMap> maps;           // texture bakes
+  /// Texture bakes: per receiver, its map and texel (y * size + x).
+  std::vector<std::uint32_t> receiver_map, receiver_texel;
+  /// Per part (a primitive as drawn by one node): vertex bakes hold the AO per vertex (1 where
+  /// no triangle uses the vertex); texture bakes the UV per vertex and the part's map.
+  std::vector<std::vector<float>> part_vertex_ao;
+  std::vector<std::vector<glm::vec2>> part_uv;
+  std::vector<int> part_map;
+  std::size_t meshes_split = 0;      // vertex bakes: new meshes made for nodes whose AO differs
+  std::vector<std::string> notes;    // one line each, for the user
+};
+
+/// Bakes: finds the receivers, asks `ao` about them, and writes the result into the document's
+/// model (vertex: a COLOR_0 or _AO accessor per primitive, meshes split per node where their AO
+/// differs; texture: maps, and each material's occlusionTexture with texCoord = uv_set, its other
+/// textures kept). Fails, naming the problem, on bad options, a primitive without the UV set
+/// (the message suggests --vertex), or UVs outside [0, 1].
+[[nodiscard]] Result<BakeResult> bake(Document& document, const BakeOptions& options, const AoFunction& ao,
+                                      const ProgressCallback& progress = {});
+
+}  // namespace exao::bake

@@ -1,0 +1,327 @@
+#include "bake/model_walk.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <string>
+#include <string_view>
+
+#include <glm/gtc/constants.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include "bake/gltf_access.h"
+
+namespace exao::bake {
+namespace {
+
+// A node's local transform: its matrix, or T * R * S (glTF 2.0 section 3.5.3).
+Result<glm::dmat4> local_transform(const tinygltf::Node& node, int index) {
+  const std::string name = "node " + std::to_string(index);
+  if (!node.matrix.empty()) {
+    if (node.matrix.size() != 16) return fail(name + ": matrix needs 16 numbers");
+    return glm::make_mat4(node.matrix.data());
+  }
+  glm::dmat4 m(1.0);
+  if (!node.translation.empty()) {
+    if (node.translation.size() != 3) return fail(name + ": translation needs 3 numbers");
+    m = glm::translate(m, glm::make_vec3(node.translation.data()));
+  }
+  if (!node.rotation.empty()) {
+    if (node.rotation.size() != 4) return fail(name + ": rotation needs 4 numbers");
+    glm::dquat q(node.rotation[3], node.rotation[0], node.rotation[1], node.rotation[2]);
+    const double length = glm::length(q);
+    if (length > 0.0 && std::isfinite(length)) q /= length;
+    m = m * glm::mat4_cast(q);
+  }
+  if (!node.scale.empty()) {
+    if (node.scale.size() != 3) return fail(name + ": scale needs 3 numbers");
+    m = glm::scale(m, glm::make_vec3(node.scale.data()));
+  }
+  return m;
+}
+
+// Triangle primitives of a mesh; points, lines and primitives without POSITION are skipped and
+// counted, as the loader does.
+Result<std::vector<MeshPrimitive>> decode_mesh(const tinygltf::Model& model, int mesh_index, LoadReport& report) {
+  const tinygltf::Mesh& mesh = model.meshes[static_cast<std::size_t>(mesh_index)];
+  std::vector<MeshPrimitive> out;
+  for (std::size_t p = 0; p < mesh.primitives.size(); ++p) {
+    const tinygltf::Primitive& prim = mesh.primitives[p];
+    const std::string where = "mesh " + std::to_string(mesh_index) + " primitive " + std::to_string(p);
+    if (prim.mode >= TINYGLTF_MODE_POINTS && prim.mode <= TINYGLTF_MODE_LINE_STRIP) {
+      ++report.primitives_skipped;
+      continue;
+    }
+    if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
+        prim.mode != TINYGLTF_MODE_TRIANGLE_FAN) {
+      return fail(where + ": unknown mode " + std::to_string(prim.mode));
+    }
+    const auto position = prim.attributes.find("POSITION");
+    if (position == prim.attributes.end()) {
+      report.notes.push_back(where + " has no POSITION: skipped");
+      continue;
+    }
+    MeshPrimitive decoded;
+    decoded.mesh = mesh_index;
+    decoded.primitive = static_cast<int>(p);
+    auto positions = read_accessor(model, position->second, 3, kPositionTypes, true, where + " POSITION");
+    if (!positions) return std::unexpected(positions.error());
+    const std::size_t vertex_count = positions->size() / 3;
+    decoded.positions.resize(vertex_count);
+    for (std::size_t v = 0; v < vertex_count; ++v) decoded.positions[v] = glm::make_vec3(&(*positions)[3 * v]);
+
+    std::vector<std::uint32_t> order;
+    if (prim.indices >= 0) {
+      auto indices = read_accessor(model, prim.indices, 1, kIndexTypes, false, where + " indices");
+      if (!indices) return std::unexpected(indices.error());
+      order.reserve(indices->size());
+      for (const double i : *indices) {
+        if (i >= static_cast<double>(vertex_count)) {
+          return fail(where + ": index " + std::to_string(static_cast<std::uint64_t>(i)) + " >= vertex count " +
+                      std::to_string(vertex_count));
+        }
+        order.push_back(static_cast<std::uint32_t>(i));
+      }
+    } else {
+      if (vertex_count > 0xffffffffu) return fail(where + ": too many vertices");
+      order.resize(vertex_count);
+      for (std::size_t i = 0; i < vertex_count; ++i) order[i] = static_cast<std::uint32_t>(i);
+    }
+    const std::size_t n = order.size();
+    std::vector<std::uint32_t>& c = decoded.corners;
+    if (prim.mode == TINYGLTF_MODE_TRIANGLES) {
+      c.assign(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(n - n % 3));
+    } else if (n >= 3) {
+      c.reserve(3 * (n - 2));
+      for (std::size_t i = 0; i + 2 < n; ++i) {
+        if (prim.mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+          const std::size_t odd = i % 2;  // every other triangle swaps two corners to keep the winding
+          c.insert(c.end(), {order[i], order[i + 1 + odd], order[i + 2 - odd]});
+        } else {
+          c.insert(c.end(), {order[i + 1], order[i + 2], order[0]});
+        }
+      }
+    }
+    if (prim.material >= 0) {
+      if (static_cast<std::size_t>(prim.material) >= model.materials.size()) {
+        return fail(where + " refers to material " + std::to_string(prim.material) + ", file has " +
+                    std::to_string(model.materials.size()));
+      }
+      decoded.material = prim.material;
+      decoded.two_sided = model.materials[static_cast<std::size_t>(prim.material)].doubleSided;
+    }
+    out.push_back(std::move(decoded));
+  }
+  return out;
+}
+
+// EXT_mesh_gpu_instancing rows as T * R * S, or one identity.
+Result<std::vector<glm::dmat4>> instance_transforms(const tinygltf::Model& model, const tinygltf::Node& node,
+                                                    int index) {
+  const auto ext = node.extensions.find("EXT_mesh_gpu_instancing");
+  if (ext == node.extensions.end()) return std::vector<glm::dmat4>{glm::dmat4(1.0)};
+  const std::string where = "node " + std::to_string(index) + " EXT_mesh_gpu_instancing";
+  if (!ext->second.IsObject() || !ext->second.Has("attributes") || !ext->second.Get("attributes").IsObject()) {
+    return fail(where + " has no attributes");
+  }
+  const tinygltf::Value& attributes = ext->second.Get("attributes");
+  std::array<std::vector<double>, 3> columns;
+  const std::array<const char*, 3> names{"TRANSLATION", "ROTATION", "SCALE"};
+  const std::array<int, 3> widths{3, 4, 3};
+  std::size_t count = 0;
+  bool any = false;
+  for (std::size_t k = 0; k < 3; ++k) {
+    if (!attributes.Has(names[k])) continue;
+    const tinygltf::Value& v = attributes.Get(names[k]);
+    if (!v.IsNumber()) return fail(where + " " + names[k] + " is not an accessor index");
+    const std::span<const int> types = k == 1 ? std::span<const int>(kRotationTypes) : std::span<const int>(kFloatOnly);
+    auto values = read_accessor(model, v.GetNumberAsInt(), widths[k], types, true, where + " " + names[k]);
+    if (!values) return std::unexpected(values.error());
+    const std::size_t rows = values->size() / static_cast<std::size_t>(widths[k]);
+    if (any && rows != count) return fail(where + ": attributes have different counts");
+    count = rows;
+    any = true;
+    columns[k] = std::move(*values);
+  }
+  if (!any) return fail(where + " has no TRANSLATION, ROTATION or SCALE");
+  std::vector<glm::dmat4> out(count, glm::dmat4(1.0));
+  for (std::size_t i = 0; i < count; ++i) {
+    glm::dmat4& m = out[i];
+    if (!columns[0].empty()) m = glm::translate(m, glm::make_vec3(&columns[0][3 * i]));
+    if (!columns[1].empty()) {
+      const double* r = &columns[1][4 * i];
+      glm::dquat q(r[3], r[0], r[1], r[2]);
+      const double length = glm::length(q);
+      if (length > 0.0 && std::isfinite(length)) q /= length;
+      m = m * glm::mat4_cast(q);
+    }
+    if (!columns[2].empty()) m = glm::scale(m, glm::make_vec3(&columns[2][3 * i]));
+  }
+  return out;
+}
+
+// A perspective camera at the node's world pose (glTF cameras look down local -Z, +Y up).
+void add_camera(const tinygltf::Model& model, const tinygltf::Node& node, const glm::dmat4& world, Scene& scene) {
+  const tinygltf::Camera& cam = model.cameras[static_cast<std::size_t>(node.camera)];
+  const std::string name = !cam.name.empty()    ? cam.name
+                           : !node.name.empty() ? node.name
+                                                : "camera " + std::to_string(node.camera);
+  if (cam.type != "perspective") return;
+  const glm::dmat3 basis(world);
+  const glm::dvec3 forward = basis * glm::dvec3(0.0, 0.0, -1.0);
+  const glm::dvec3 up_raw = basis * glm::dvec3(0.0, 1.0, 0.0);
+  const double forward_length = glm::length(forward);
+  if (!(forward_length > 0.0) || !std::isfinite(forward_length)) return;
+  const glm::dvec3 f = forward / forward_length;
+  const glm::dvec3 u_raw = up_raw - glm::dot(up_raw, f) * f;
+  const double up_length = glm::length(u_raw);
+  const double yfov = cam.perspective.yfov;
+  const glm::dvec3 eye(world[3]);
+  if (!(up_length > 1e-12 * forward_length) || !std::isfinite(up_length) || !std::isfinite(eye.x) ||
+      !std::isfinite(eye.y) || !std::isfinite(eye.z) || !(yfov > 0.0 && yfov < glm::pi<double>())) {
+    return;
+  }
+  Camera camera;
+  camera.name = name;
+  camera.eye = glm::vec3(eye);
+  camera.forward = glm::vec3(f);
+  camera.up = glm::vec3(u_raw / up_length);
+  camera.yfov = static_cast<float>(yfov);
+  if (cam.perspective.aspectRatio > 0.0) camera.aspect = static_cast<float>(cam.perspective.aspectRatio);
+  scene.cameras.push_back(std::move(camera));
+}
+
+Result<std::vector<int>> root_nodes(const tinygltf::Model& model) {
+  if (!model.scenes.empty()) {
+    const int s = model.defaultScene < 0 ? 0 : model.defaultScene;
+    if (static_cast<std::size_t>(s) >= model.scenes.size()) {
+      return fail("default scene " + std::to_string(s) + " does not exist");
+    }
+    return model.scenes[static_cast<std::size_t>(s)].nodes;
+  }
+  std::vector<bool> is_child(model.nodes.size(), false);
+  for (const tinygltf::Node& node : model.nodes) {
+    for (const int c : node.children) {
+      if (c >= 0 && static_cast<std::size_t>(c) < is_child.size()) is_child[static_cast<std::size_t>(c)] = true;
+    }
+  }
+  std::vector<int> roots;
+  for (std::size_t i = 0; i < model.nodes.size(); ++i) {
+    if (!is_child[i]) roots.push_back(static_cast<int>(i));
+  }
+  return roots;
+}
+
+Result<void> check_required_extensions(const tinygltf::Model& model) {
+  constexpr std::array<std::string_view, 3> kUnsupported{"KHR_draco_mesh_compression", "EXT_meshopt_compression",
+                                                         "KHR_meshopt_compression"};
+  for (const std::string& ext : model.extensionsRequired) {
+    if (std::find(kUnsupported.begin(), kUnsupported.end(), ext) != kUnsupported.end()) {
+      return fail("requires " + ext + ", which is not supported");
+    }
+  }
+  return {};
+}
+
+// Emits one part's triangles into the scene, as core/gltf_loader.cpp does: a mirroring transform
+// swaps two corners so the front face stays counter-clockwise in world space.
+void emit(ModelWalk& walk, std::size_t part_index) {
+  Part& part = walk.parts[part_index];
+  const MeshInstance& instance = walk.instances[static_cast<std::size_t>(part.instance)];
+  const MeshPrimitive& prim = walk.primitives[static_cast<std::size_t>(part.primitive)];
+  part.world.resize(prim.positions.size());
+  for (std::size_t v = 0; v < prim.positions.size(); ++v) {
+    part.world[v] = glm::vec3(instance.world * glm::dvec4(prim.positions[v], 1.0));
+  }
+  for (std::size_t t = 0; t + 2 < prim.corners.size(); t += 3) {
+    const auto c = walk.corners(part_index, t / 3);
+    if (walk.scene.add_triangle(part.world[c[0]], part.world[c[1]], part.world[c[2]], prim.two_sided, prim.material)) {
+      walk.triangle_source.push_back({static_cast<std::uint32_t>(part_index), static_cast<std::uint32_t>(t / 3)});
+    }
+  }
+}
+
+}  // namespace
+
+Result<ModelWalk> walk_model(const tinygltf::Model& model) {
+  if (auto ok = check_required_extensions(model); !ok) return std::unexpected(ok.error());
+  auto roots = root_nodes(model);
+  if (!roots) return std::unexpected(roots.error());
+
+  ModelWalk walk;
+  std::map<int, std::vector<int>> mesh_primitives;  // mesh -> indices in walk.primitives, decoded on first use
+  std::size_t skinned = 0;
+  struct Visit {
+    int node;
+    glm::dmat4 parent;
+  };
+  std::vector<Visit> stack;
+  for (auto it = roots->rbegin(); it != roots->rend(); ++it) stack.push_back({*it, glm::dmat4(1.0)});
+  std::vector<bool> visited(model.nodes.size(), false);
+  while (!stack.empty()) {
+    const Visit visit = stack.back();
+    stack.pop_back();
+    if (visit.node < 0 || static_cast<std::size_t>(visit.node) >= model.nodes.size()) {
+      return fail("scene refers to node " + std::to_string(visit.node) + ", file has " +
+                  std::to_string(model.nodes.size()));
+    }
+    const auto index = static_cast<std::size_t>(visit.node);
+    if (visited[index]) return fail("node " + std::to_string(visit.node) + " is reached twice in the node tree");
+    visited[index] = true;
+    const tinygltf::Node& node = model.nodes[index];
+    auto local = local_transform(node, visit.node);
+    if (!local) return std::unexpected(local.error());
+    const glm::dmat4 world = visit.parent * *local;
+    if (node.camera >= 0 && static_cast<std::size_t>(node.camera) < model.cameras.size()) {
+      add_camera(model, node, world, walk.scene);
+    }
+    if (node.mesh >= 0) {
+      if (static_cast<std::size_t>(node.mesh) >= model.meshes.size()) {
+        return fail("node " + std::to_string(visit.node) + " refers to mesh " + std::to_string(node.mesh) +
+                    ", file has " + std::to_string(model.meshes.size()));
+      }
+      auto found = mesh_primitives.find(node.mesh);
+      if (found == mesh_primitives.end()) {
+        auto decoded = decode_mesh(model, node.mesh, walk.scene.report);
+        if (!decoded) return std::unexpected(decoded.error());
+        std::vector<int> indices;
+        for (MeshPrimitive& prim : *decoded) {
+          indices.push_back(static_cast<int>(walk.primitives.size()));
+          walk.primitives.push_back(std::move(prim));
+        }
+        found = mesh_primitives.emplace(node.mesh, std::move(indices)).first;
+      }
+      auto rows = instance_transforms(model, node, visit.node);
+      if (!rows) return std::unexpected(rows.error());
+      if (node.skin >= 0) ++skinned;
+      for (std::size_t r = 0; r < rows->size(); ++r) {
+        MeshInstance instance;
+        instance.node = visit.node;
+        instance.row = static_cast<int>(r);
+        instance.mesh = node.mesh;
+        instance.world = world * (*rows)[r];
+        instance.mirrored = glm::determinant(instance.world) < 0.0;
+        walk.instances.push_back(instance);
+        for (const int prim : found->second) {
+          walk.parts.push_back({static_cast<int>(walk.instances.size() - 1), prim, {}});
+          emit(walk, walk.parts.size() - 1);
+        }
+      }
+    }
+    for (auto it = node.children.rbegin(); it != node.children.rend(); ++it) stack.push_back({*it, world});
+  }
+  if (walk.scene.report.primitives_skipped > 0) {
+    walk.scene.report.notes.push_back(std::to_string(walk.scene.report.primitives_skipped) +
+                                      " point/line primitive uses skipped (AO needs triangles)");
+  }
+  if (skinned > 0) {
+    walk.scene.report.notes.push_back(std::to_string(skinned) +
+                                      " skinned mesh node(s) baked in their bind pose (skinning is not applied)");
+  }
+  if (walk.scene.triangle_count() == 0) return fail("no triangles");
+  return walk;
+}
+
+}  // namespace exao::bake
