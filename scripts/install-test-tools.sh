@@ -13,6 +13,12 @@ tools="$build/test-tools"
 version="2.0.0-dev.3.10"
 
 if ! command -v node >/dev/null || ! command -v npm >/dev/null; then
+  # A fresh Debian machine has neither: Debian's own packages are enough for the validator.
+  if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then
+    DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends nodejs npm >/dev/null || true
+  fi
+fi
+if ! command -v node >/dev/null || ! command -v npm >/dev/null; then
   echo "install-test-tools: node and npm are needed for the glTF validator; the tests that use it will be skipped" >&2
   exit 0
 fi
