@@ -19,10 +19,11 @@
 #include "core/shadow_rays.h"
 #include "lut/mask_engine.h"
 #include "lut/triangle_set.h"
+#include "raster/occlusion.h"
 
 namespace exao::cli {
 
-enum class Method { Embree, Brute, Bvh };
+enum class Method { Embree, Brute, Bvh, Raster };
 
 [[nodiscard]] const char* method_name(Method method);
 [[nodiscard]] Result<Method> parse_method(const std::string& name);
@@ -31,14 +32,16 @@ enum class Method { Embree, Brute, Bvh };
 
 struct BackendOptions {
   EmbreeOptions embree;
+  raster::RasterOptions raster;
   lut::MaskMode masks = lut::MaskMode::Lut;
   int table_resolution = 0;  // 0: the default for N
   bvh::BvhOptions bvh;
 };
 
-/// Work counters a backend reports (BVH traversal for now).
+/// Work counters a backend reports.
 struct BackendStats {
   bvh::TraversalStats traversal;
+  raster::RasterStats raster;
 };
 
 /// Geometry prepared once per scene: the Embree scene (the reference, and primary visibility),
@@ -55,12 +58,23 @@ class Backends {
   /// The mask engine for `rays` in `mode` (builds the plane table in Lut mode).
   [[nodiscard]] Result<lut::MaskEngine> engine(const ShadowRays& rays, lut::MaskMode mode) const;
 
-  /// Masks of `receivers` by `method`. `engine` is required for every method but embree.
+  /// Masks of the pixel receivers of `camera` by the raster backend (these receivers: the
+  /// G-buffer's own, or Embree's when the caller compares methods on the same receivers).
+  [[nodiscard]] MaskSet run_raster(const lut::MaskEngine& engine, const PixelReceivers& pixels, const Camera& camera,
+                                   const ProgressCallback& progress = {}, BackendStats* stats = nullptr) const;
+
+  /// The raster backend's own G-buffer receivers and their masks.
+  [[nodiscard]] raster::RasterResult render_raster(const lut::MaskEngine& engine, const Camera& camera, int width,
+                                                   int height, const ProgressCallback& progress = {}) const;
+
+  /// Masks of `receivers` by `method` (not raster: it needs a camera). `engine` is required for
+  /// every method but embree.
   [[nodiscard]] MaskSet run(Method method, const ShadowRays& rays, const lut::MaskEngine* engine,
                             std::span<const Receiver> receivers, const ProgressCallback& progress = {},
                             BackendStats* stats = nullptr, std::optional<EmbreeRays> embree_rays = {}) const;
 
  private:
+  const Scene* scene_ = nullptr;
   BackendOptions options_;
   std::unique_ptr<EmbreeScene> embree_;
   std::unique_ptr<lut::TriangleSet> triangles_;

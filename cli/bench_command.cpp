@@ -141,8 +141,10 @@ int run_bench(const BenchOptions& options) {
           BackendStats stats;
           ProgressBar bar(std::string("bench ") + method_name(config.method));
           const auto start = std::chrono::steady_clock::now();
-          MaskSet masks = backends->run(config.method, *rays, engine, pixels.receivers, bar.callback(),
-                                        options.stats ? &stats : nullptr, config.rays);
+          MaskSet masks = config.method == Method::Raster
+                              ? backends->run_raster(*engine, pixels, *camera, bar.callback(), options.stats ? &stats : nullptr)
+                              : backends->run(config.method, *rays, engine, pixels.receivers, bar.callback(),
+                                              options.stats ? &stats : nullptr, config.rays);
           const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
           bar.finish();
           BenchRun& run = runs[c];
@@ -188,7 +190,7 @@ Command add_bench_command(CLI::App& app) {
   add_camera_options(*command, options->camera);
   command->add_option("-n,--samples", options->samples, "Rays per receiver, a list: 128,1024")->delimiter(',')->capture_default_str();
   command->add_option("-r,--radius", options->radii, "Radii, a list of lengths or percentages: 1%,5%")->delimiter(',')->capture_default_str();
-  command->add_option("--methods", options->methods, "Methods to time besides embree: brute, bvh")->delimiter(',')->capture_default_str();
+  command->add_option("--methods", options->methods, "Methods to time besides embree: brute, bvh, raster (raster on Embree's pixel receivers)")->delimiter(',')->capture_default_str();
   command->add_option("--masks", options->masks, "Mask modes, a list: lut,exact")->delimiter(',')->capture_default_str();
   command->add_option("--falloff", options->rays.falloff, "constant, linear or quadratic")->capture_default_str();
   command->add_option("--offset", options->rays.offset, "Ray origin offset (default 1e-4 of the diagonal)");

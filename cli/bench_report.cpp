@@ -47,6 +47,7 @@ void print_bench_row(const BenchRun& run, bool stats) {
               static_cast<double>(run.radius), run.method.c_str(), run.masks.c_str(), run.seconds, run.mrays_per_s,
               run.speedup_vs_embree, 100.0 * run.ray_agreement, 100.0 * run.identical_receivers, run.mean_abs_error,
               run.max_abs_error);
+  if (stats && run.stats.raster.receivers) std::printf("%s", raster::format_stats(run.stats.raster).c_str());
   const auto& t = run.stats.traversal;
   if (stats && t.receivers) {
     const double n = static_cast<double>(t.receivers);

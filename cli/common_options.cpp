@@ -35,7 +35,8 @@ void add_camera_options(CLI::App& app, CameraOptions& options) {
 }
 
 void add_method_options(CLI::App& app, MethodOptions& options) {
-  app.add_option("--method", options.method, "embree (reference rays), brute (every triangle's mask) or bvh")
+  app.add_option("--method", options.method,
+                 "bvh (BVH traversal), raster (rasterization, camera views), brute (every triangle) or embree (rays)")
       ->capture_default_str();
   app.add_option("--masks", options.masks, "Plane masks from the look-up table (lut) or exact tests (exact)")
       ->capture_default_str();
@@ -46,6 +47,8 @@ void add_method_options(CLI::App& app, MethodOptions& options) {
       ->capture_default_str();
   app.add_option("--branching", options.branching, "BVH children per node: 2 or 4")->capture_default_str();
   app.add_option("--leaf-size", options.leaf_size, "Most triangles per BVH leaf: 1 to 8")->capture_default_str();
+  app.add_option("--alpha", options.alpha, "raster: R/r above which a triangle's volume is a prism, else a billboard")
+      ->capture_default_str();
 }
 
 Result<BackendOptions> make_backend_options(const MethodOptions& options) {
@@ -60,6 +63,8 @@ Result<BackendOptions> make_backend_options(const MethodOptions& options) {
   out.table_resolution = options.table_resolution;
   out.bvh.branching = options.branching;
   out.bvh.max_leaf_size = options.leaf_size;
+  if (!(options.alpha > 0.0f)) return fail("--alpha: must be greater than 0");
+  out.raster.alpha = options.alpha;
   return out;
 }
 
@@ -69,6 +74,7 @@ std::unique_ptr<tbb::global_control> thread_limit(int threads) {
 }
 
 void print_stats(const BackendStats& stats) {
+  if (stats.raster.receivers) std::printf("%s", raster::format_stats(stats.raster).c_str());
   const auto& t = stats.traversal;
   if (t.receivers == 0) return;
   const double n = static_cast<double>(t.receivers);

@@ -41,13 +41,14 @@ struct CameraOptions {
 };
 
 struct MethodOptions {
-  std::string method = "bvh";  // embree | brute | bvh
+  std::string method = "bvh";  // embree | brute | bvh | raster
   std::string masks = "lut";   // lut | exact
   std::string embree_rays = "packet16";
   bool embree_per_receiver = false;  // packets of one receiver's samples instead of one sample of neighbours
   int table_resolution = 0;    // 0: the default for N
   int branching = 4;
   int leaf_size = 8;
+  float alpha = 0.2f;           // raster: R / r above which a triangle gets a prism, else a billboard
 };
 
 void add_scene_options(CLI::App& app, SceneOptions& options);

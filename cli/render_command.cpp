@@ -12,6 +12,7 @@
 #include "cli/progress_bar.h"
 #include "core/image_io.h"
 #include "core/pixel_receivers.h"
+#include "raster/gbuffer.h"
 
 namespace exao::cli {
 namespace {
@@ -70,14 +71,21 @@ int run_render(const RenderOptions& options) {
     engine = std::move(*built);
   }
 
-  const PixelReceivers pixels = pixel_receivers(backends->embree(), *scene, *camera, options.camera.width, *height);
+  // Primary visibility: Embree's, or the raster backend's own G-buffer.
+  PixelReceivers pixels;
+  if (*method != Method::Raster) pixels = pixel_receivers(backends->embree(), *scene, *camera, options.camera.width, *height);
   const auto start = std::chrono::steady_clock::now();
   MaskSet masks;
   BackendStats stats;
   {
     ProgressBar bar("render");
-    masks = backends->run(*method, *rays, engine ? &*engine : nullptr, pixels.receivers, bar.callback(),
-                          options.stats ? &stats : nullptr);
+    if (*method == Method::Raster) {
+      pixels = raster::raster_pixel_receivers(*scene, *camera, options.camera.width, *height);
+      masks = backends->run_raster(*engine, pixels, *camera, bar.callback(), options.stats ? &stats : nullptr);
+    } else {
+      masks = backends->run(*method, *rays, engine ? &*engine : nullptr, pixels.receivers, bar.callback(),
+                            options.stats ? &stats : nullptr);
+    }
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
