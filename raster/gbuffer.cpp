@@ -1,0 +1,151 @@
+#include "raster/gbuffer.h"
+
+#include <algorithm>
+#include <array>
+#include <cassert>
+#include <cmath>
+
+#include <tbb/parallel_for.h>
+
+#include "raster/projection.h"
+#include "raster/rasterizer.h"
+#include "raster/screen_polygon.h"
+#include "raster/tiles.h"
+
+namespace exao::raster {
+namespace {
+
+// A scene triangle ready to draw: its clip-space vertices and 1/w as an affine function of the
+// screen position (pixels), 1/w = a px + b py + c, from the plane through the clip vertices.
+struct DrawTriangle {
+  std::array<ClipVertex, 3> clip;
+  double a = 0.0, b = 0.0, c = 0.0;
+  bool valid = false;
+};
+
+DrawTriangle prepare(const Scene& scene, const Projection& projection, std::size_t t) {
+  DrawTriangle d;
+  for (int k = 0; k < 3; ++k) d.clip[static_cast<std::size_t>(k)] = projection.to_clip(scene.vertices[3 * t + static_cast<std::size_t>(k)]);
+  if (d.clip[0].w < projection.near && d.clip[1].w < projection.near && d.clip[2].w < projection.near) return d;
+  // Plane n . (x, y, w) = e through the clip vertices; on the ray (ndc_x w, ndc_y w, w):
+  // 1/w = (n.x ndc_x + n.y ndc_y + n.z) / e.
+  const glm::dvec3 p0(d.clip[0].x, d.clip[0].y, d.clip[0].w);
+  const glm::dvec3 p1(d.clip[1].x, d.clip[1].y, d.clip[1].w);
+  const glm::dvec3 p2(d.clip[2].x, d.clip[2].y, d.clip[2].w);
+  const glm::dvec3 n = glm::cross(p1 - p0, p2 - p0);
+  const double e = glm::dot(n, p0);
+  // The plane through the eye (seen edge on) covers no pixel's interior: skip it.
+  const double scale = glm::length(n) * std::max({glm::length(p0), glm::length(p1), glm::length(p2)});
+  if (!(std::abs(e) > 1e-12 * scale)) return d;
+  const double w = projection.width, h = projection.height;
+  d.a = 2.0 * n.x / (w * e);
+  d.b = -2.0 * n.y / (h * e);
+  d.c = (-n.x + n.y + n.z) / e;
+  d.valid = true;
+  return d;
+}
+
+}  // namespace
+
+double scene_scale(const Scene& scene, const glm::vec3& eye) {
+  const Bounds bounds = scene.bounds();
+  double m = std::max({std::abs(eye.x), std::abs(eye.y), std::abs(eye.z)});
+  if (!bounds.empty()) {
+    for (const glm::vec3& p : {bounds.lo, bounds.hi}) m = std::max({m, double(std::abs(p.x)), double(std::abs(p.y)), double(std::abs(p.z))});
+    m += bounds.diagonal();
+  }
+  return std::max(m, 1e-30);
+}
+
+GBuffer rasterize_gbuffer(const Scene& scene, const Camera& camera, int width, int height) {
+  assert(width >= 1 && height >= 1 && width <= kMaxImageSize && height <= kMaxImageSize);
+  GBuffer g;
+  g.width = width;
+  g.height = height;
+  g.near = kNearFraction * scene_scale(scene, camera.eye);
+  const std::size_t pixels = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+  g.triangle.assign(pixels, kNoTriangle);
+  g.inverse_depth.assign(pixels, 0.0);
+  const Projection projection = Projection::make(camera, width, height, g.near);
+  const TileGrid grid(width, height);
+
+  const TileBins bins = bin_items(grid, scene.triangle_count(), [&](std::size_t t, auto&& emit) {
+    const DrawTriangle d = prepare(scene, projection, t);
+    if (!d.valid) return;
+    const ScreenPolygon polygon = make_screen_polygon(projection, d.clip);
+    if (polygon.empty()) return;
+    for (int ty = grid.row_of(polygon.y0); ty <= grid.row_of(polygon.y1); ++ty) {
+      for (int tx = grid.column_of(polygon.x0); tx <= grid.column_of(polygon.x1); ++tx) emit(ty * grid.columns + tx);
+    }
+  });
+
+  tbb::parallel_for(0, grid.count(), [&](int tile) {
+    int tx0 = 0, ty0 = 0, tx1 = 0, ty1 = 0;
+    grid.rect(tile, tx0, ty0, tx1, ty1);
+    for (std::size_t i = bins.offset[static_cast<std::size_t>(tile)]; i < bins.offset[static_cast<std::size_t>(tile) + 1]; ++i) {
+      const std::uint32_t t = bins.items[i];
+      const DrawTriangle d = prepare(scene, projection, t);
+      PolygonRaster raster;
+      if (!raster.setup(make_screen_polygon(projection, d.clip))) continue;
+      const int y_end = std::min(ty1, raster.y1());
+      for (int y = std::max(ty0, raster.y0()); y <= y_end; ++y) {
+        const double py = y + 0.5;
+        raster.spans(y, tx0, tx1, [&](int xa, int xb) {
+          for (int x = xa; x <= xb; ++x) {
+            const double inverse_depth = d.a * (x + 0.5) + d.b * py + d.c;
+            const std::size_t p = static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x);
+            // Nearest wins (largest 1/w); items come in increasing index, so a tie keeps the lower.
+            if (inverse_depth > g.inverse_depth[p]) {
+              g.inverse_depth[p] = inverse_depth;
+              g.triangle[p] = t;
+            }
+          }
+        });
+      }
+    }
+  });
+  return g;
+}
+
+PixelReceivers gbuffer_receivers(const Scene& scene, const Camera& camera, const GBuffer& gbuffer) {
+  PixelReceivers result;
+  result.width = gbuffer.width;
+  result.height = gbuffer.height;
+  const std::size_t pixels = gbuffer.triangle.size();
+  std::size_t visible = 0;
+  for (const std::uint32_t t : gbuffer.triangle) visible += t != kNoTriangle;
+  result.receivers.resize(visible);
+  result.pixel.resize(visible);
+  result.triangle.resize(visible);
+  std::size_t next = 0;
+  for (std::size_t p = 0; p < pixels; ++p) {
+    if (gbuffer.triangle[p] == kNoTriangle) continue;
+    result.pixel[next] = static_cast<std::uint32_t>(p);
+    result.triangle[next] = gbuffer.triangle[p];
+    ++next;
+  }
+  tbb::parallel_for(std::size_t{0}, visible, [&](std::size_t i) {
+    const std::uint32_t p = result.pixel[i];
+    const std::uint32_t t = result.triangle[i];
+    const int x = static_cast<int>(p % static_cast<std::uint32_t>(gbuffer.width));
+    const int y = static_cast<int>(p / static_cast<std::uint32_t>(gbuffer.width));
+    const glm::vec3 direction = pixel_ray(camera, gbuffer.width, gbuffer.height, x, y);
+    const auto tri = scene.triangle(t);
+    // The pixel-centre ray against the triangle's plane (DESIGN.md: the receiver is where the
+    // pixel-centre ray meets the visible triangle).
+    const glm::vec3 normal = glm::cross(tri[1] - tri[0], tri[2] - tri[0]);
+    float distance = glm::dot(normal, tri[0] - camera.eye) / glm::dot(normal, direction);
+    if (!(distance > 0.0f && std::isfinite(distance))) {
+      // Grazing: the rasterised depth instead (w is the depth along forward).
+      distance = static_cast<float>(1.0 / gbuffer.inverse_depth[p]) / glm::dot(direction, camera.forward);
+    }
+    result.receivers[i] = pixel_receiver(scene, camera, gbuffer.width, gbuffer.height, p, t, distance);
+  });
+  return result;
+}
+
+PixelReceivers raster_pixel_receivers(const Scene& scene, const Camera& camera, int width, int height) {
+  return gbuffer_receivers(scene, camera, rasterize_gbuffer(scene, camera, width, height));
+}
+
+}  // namespace exao::raster
