@@ -130,7 +130,8 @@ bool build_volume(const lut::TriangleSet& triangles, std::uint32_t t, const Volu
   const glm::dvec3 unit = degenerate ? glm::dvec3(0.0) : n / n_length;
   // triangle_mask computes the plane from vertices in the receiver frame, each off by a few ulps
   // of its distance (< 2R + r) from the receiver: its normal is off by about
-  // 4 ulp (2R + r) L / (2 area) radians. theta is that with a factor of 40 to spare.
+  // 4 ulp (2R + r) L / (2 area) radians (ulp = 2^-24, L the longest edge); theta is that with a
+  // factor of about 80 to spare, and the plane-distance slack is theta times the reach.
   const double reach = 2.0 * R + grow;
   const double theta = degenerate ? kInfinity : 1e-5 * reach * longest / (0.5 * n_length);
   const double plane_slack = G + 2.0 * theta * reach;

@@ -259,6 +259,7 @@ void render(const lut::TriangleSet& triangles, const lut::MaskEngine& engine, co
   // Bin every volume to the tiles it may draw into (paper step 3a: one shape per triangle).
   tbb::combinable<RasterStats> local;
   const TileBins bins = bin_items(grid, triangles.size(), [&](std::size_t t, auto&& emit) {
+    const lut::FlushDenormals flush;  // build_volume as in the tiles below, on any thread
     RasterStats& mine = local.local();
     InfluenceVolume volume;
     if (!build_volume(triangles, static_cast<std::uint32_t>(t), params, projection, volume)) {
@@ -321,10 +322,7 @@ RasterResult occlusion(const PixelReceivers& pixels, const Scene& scene, const l
   result.masks = MaskSet(count, engine.samples());
   result.stats.receivers = count;
   result.stats.triangles = triangles.size();
-  if (count == 0 || triangles.size() == 0) {
-    if (progress) progress(0, 0);
-    return result;
-  }
+  if (count == 0 || triangles.size() == 0) return result;
 
   const int width = pixels.width, height = pixels.height;
   const double scale = scene_scale(scene, camera.eye);

@@ -9,8 +9,10 @@
 //     paper's order (raster/fragment_tests.h), and survivors OR engine.triangle_mask into the
 //     pixel's buffer.
 // The screen is cut into tiles; triangles are binned to the tiles their volumes cover and TBB
-// tasks draw whole tiles, so each buffer has one writer. The volumes and tests are conservative,
-// so the masks equal the BVH and brute backends' bit for bit (DESIGN.md section 8, test 2).
+// tasks draw whole tiles, so each buffer has one writer. A volume skips whole tiles and tile rows
+// whose receivers' bounds fail the depth test or tests 1 and 2, and the first tests run on a
+// span of pixels at once (vectorised). The volumes and tests are conservative, so the masks
+// equal the BVH and brute backends' bit for bit (DESIGN.md section 8, test 2).
 
 #include "core/camera.h"
 #include "core/mask_set.h"
@@ -28,7 +30,9 @@ struct RasterOptions {
   /// Sec. 4.1, where 0.2 was consistently good). > 0.
   float alpha = 0.2f;
   /// Count fragments at every culling stage (RasterStats' second half: the paper's Table 2).
-  /// Slower: every fragment is counted, and the tile-level culls that skip whole tiles are off.
+  /// Slower: every fragment is counted one by one, and the culls that skip a whole tile or tile
+  /// row when none of its receivers can pass tests 1 and 2 are off (they would hide fragments
+  /// from the counts; the masks are the same either way).
   bool stats = false;
   /// After the five tests, skip a fragment when the mask of the triangle's bounding sphere
   /// (region_mask, kNodeMargin: it holds the triangle's mask) adds no ray to the pixel's buffer:

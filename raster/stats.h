@@ -14,8 +14,9 @@ struct RasterStats {
   std::uint64_t prisms = 0;            // volumes built as hexagonal prisms (Fig. 2)
   std::uint64_t billboards = 0;        // ... as billboards (Fig. 3)
   std::uint64_t boxes = 0;             // ... as boxes (degenerate triangles without a billboard)
-  std::uint64_t volumes_off = 0;       // volumes that reach no receiver's tile (off screen, ...)
-  std::uint64_t tile_volumes = 0;      // (tile, volume) pairs drawn
+  std::uint64_t volumes_off = 0;       // volumes drawn into no tile: off screen, or (without stats)
+                                       // every receiver of their tiles is out of reach
+  std::uint64_t tile_volumes = 0;      // (tile, volume) pairs drawn (some row of the tile in reach)
   std::uint64_t sphere_mask_skipped = 0;  // passed the tests, but the sphere's mask adds no ray
   std::uint64_t masks = 0;             // triangle_mask calls
   std::uint64_t masks_nonempty = 0;    // ... that set at least one bit
