@@ -110,7 +110,7 @@ Command add_query_command(CLI::App& app) {
   command->add_option("--points", options->points, "Receivers: a text file (x y z nx ny nz [key] a line) or a PLY with normals")
       ->required();
   command->add_option("-o,--output", options->output, "One AO value a line, in input order")->capture_default_str();
-  command->add_flag("--stats", options->stats, "Print work counters per receiver (bvh)");
+  command->add_flag("--stats", options->stats, "Print work counters: per receiver (bvh), or the culling stages (raster, slower)");
   return [options, command]() { return command->parsed() ? run_query(*options) : -1; };
 }
 

@@ -115,7 +115,7 @@ Command add_render_command(CLI::App& app) {
   command->add_option("-o,--output", options->output, "OpenEXR output (Y = AO, A = coverage)")->capture_default_str();
   command->add_option("--png", options->png, "PNG preview (empty: none)")->capture_default_str();
   command->add_flag("--counts", options->counts, "Add a 'blocked' channel with the blocked-ray count");
-  command->add_flag("--stats", options->stats, "Print work counters per receiver (bvh)");
+  command->add_flag("--stats", options->stats, "Print work counters: per receiver (bvh), or the culling stages (raster, slower)");
   return [options, command]() { return command->parsed() ? run_render(*options) : -1; };
 }
 
