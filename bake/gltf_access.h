@@ -1,10 +1,7 @@
 #pragma once
-// Reading glTF accessors safely and appending new ones: the byte-level access every part of the
-// bake shares. Internal to exao_bake (it exposes tinygltf, which the library links privately).
-//
-// Reading follows core/gltf_loader.cpp: tinygltf does not check that an accessor's bytes lie
-// inside its buffer, so every bound is checked here before a byte is read, and a malformed file
-// yields an error naming the accessor, never a read out of bounds.
+// Reading glTF accessors safely (core/gltf_model.h, shared with the scene loader) and appending
+// new ones: the byte-level access every part of the bake shares. Internal to exao_bake (it
+// exposes tinygltf, which the library links privately).
 
 #include <tiny_gltf.h>
 
@@ -15,37 +12,29 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/gltf_model.h"
 
 namespace exao::bake {
 
-inline constexpr int kByte = TINYGLTF_COMPONENT_TYPE_BYTE;
-inline constexpr int kUnsignedByte = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
-inline constexpr int kShort = TINYGLTF_COMPONENT_TYPE_SHORT;
-inline constexpr int kUnsignedShort = TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
-inline constexpr int kUnsignedInt = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
-inline constexpr int kFloat = TINYGLTF_COMPONENT_TYPE_FLOAT;
-
-// Component types each use may have (glTF 2.0 section 3.7.2.1 and KHR_mesh_quantization).
-inline constexpr std::array kIndexTypes{kUnsignedByte, kUnsignedShort, kUnsignedInt};
-inline constexpr std::array kPositionTypes{kFloat, kByte, kUnsignedByte, kShort, kUnsignedShort};
-inline constexpr std::array kNormalTypes{kFloat, kByte, kShort};
-inline constexpr std::array kTexcoordTypes{kFloat, kByte, kUnsignedByte, kShort, kUnsignedShort};
-inline constexpr std::array kColorTypes{kFloat, kUnsignedByte, kUnsignedShort};
-inline constexpr std::array kFloatOnly{kFloat};
-inline constexpr std::array kRotationTypes{kFloat, kByte, kShort};
-
-/// Accessor `index` as count * components numbers, normalised integers decoded to [0, 1] or
-/// [-1, 1] (glTF 2.0 section 3.11), byteStride honoured, sparse values substituted. `allowed`
-/// lists the component types this use accepts. `what` names the use in the error.
-[[nodiscard]] Result<std::vector<double>> read_accessor(const tinygltf::Model& model, int index, int components,
-                                                        std::span<const int> allowed, bool may_normalize,
-                                                        const std::string& what);
+// The reading side is core/gltf_model.h, shared with the scene loader.
+using gltf::kByte;
+using gltf::kColorTypes;
+using gltf::kFloat;
+using gltf::kFloatOnly;
+using gltf::kIndexTypes;
+using gltf::kNormalTypes;
+using gltf::kPositionTypes;
+using gltf::kRotationTypes;
+using gltf::kShort;
+using gltf::kTexcoordTypes;
+using gltf::kUnsignedByte;
+using gltf::kUnsignedInt;
+using gltf::kUnsignedShort;
+using gltf::one_line;
+using gltf::read_accessor;
 
 /// Number of components of an accessor's type (1 for SCALAR ... 16 for MAT4); 0 when unknown.
 [[nodiscard]] int accessor_components(const tinygltf::Model& model, int index);
-
-/// Joins tinygltf's multi-line messages into one short line.
-[[nodiscard]] std::string one_line(const std::string& text);
 
 /// Appends `bytes` to the buffer that holds what the bake adds (created on first use, merged
 /// with the others when saving) as a new buffer view, 4-byte aligned (glTF 2.0 section 3.6.2.4).

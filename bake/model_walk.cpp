@@ -16,31 +16,11 @@
 namespace exao::bake {
 namespace {
 
-// A node's local transform: its matrix, or T * R * S (glTF 2.0 section 3.5.3).
-Result<glm::dmat4> local_transform(const tinygltf::Node& node, int index) {
-  const std::string name = "node " + std::to_string(index);
-  if (!node.matrix.empty()) {
-    if (node.matrix.size() != 16) return fail(name + ": matrix needs 16 numbers");
-    return glm::make_mat4(node.matrix.data());
-  }
-  glm::dmat4 m(1.0);
-  if (!node.translation.empty()) {
-    if (node.translation.size() != 3) return fail(name + ": translation needs 3 numbers");
-    m = glm::translate(m, glm::make_vec3(node.translation.data()));
-  }
-  if (!node.rotation.empty()) {
-    if (node.rotation.size() != 4) return fail(name + ": rotation needs 4 numbers");
-    glm::dquat q(node.rotation[3], node.rotation[0], node.rotation[1], node.rotation[2]);
-    const double length = glm::length(q);
-    if (length > 0.0 && std::isfinite(length)) q /= length;
-    m = m * glm::mat4_cast(q);
-  }
-  if (!node.scale.empty()) {
-    if (node.scale.size() != 3) return fail(name + ": scale needs 3 numbers");
-    m = glm::scale(m, glm::make_vec3(node.scale.data()));
-  }
-  return m;
-}
+using gltf::add_camera;
+using gltf::check_required_extensions;
+using gltf::instance_transforms;
+using gltf::local_transform;
+using gltf::root_nodes;
 
 // Triangle primitives of a mesh; points, lines and primitives without POSITION are skipped and
 // counted, as the loader does.
@@ -115,114 +95,6 @@ Result<std::vector<MeshPrimitive>> decode_mesh(const tinygltf::Model& model, int
     out.push_back(std::move(decoded));
   }
   return out;
-}
-
-// EXT_mesh_gpu_instancing rows as T * R * S, or one identity.
-Result<std::vector<glm::dmat4>> instance_transforms(const tinygltf::Model& model, const tinygltf::Node& node,
-                                                    int index) {
-  const auto ext = node.extensions.find("EXT_mesh_gpu_instancing");
-  if (ext == node.extensions.end()) return std::vector<glm::dmat4>{glm::dmat4(1.0)};
-  const std::string where = "node " + std::to_string(index) + " EXT_mesh_gpu_instancing";
-  if (!ext->second.IsObject() || !ext->second.Has("attributes") || !ext->second.Get("attributes").IsObject()) {
-    return fail(where + " has no attributes");
-  }
-  const tinygltf::Value& attributes = ext->second.Get("attributes");
-  std::array<std::vector<double>, 3> columns;
-  const std::array<const char*, 3> names{"TRANSLATION", "ROTATION", "SCALE"};
-  const std::array<int, 3> widths{3, 4, 3};
-  std::size_t count = 0;
-  bool any = false;
-  for (std::size_t k = 0; k < 3; ++k) {
-    if (!attributes.Has(names[k])) continue;
-    const tinygltf::Value& v = attributes.Get(names[k]);
-    if (!v.IsNumber()) return fail(where + " " + names[k] + " is not an accessor index");
-    const std::span<const int> types = k == 1 ? std::span<const int>(kRotationTypes) : std::span<const int>(kFloatOnly);
-    auto values = read_accessor(model, v.GetNumberAsInt(), widths[k], types, true, where + " " + names[k]);
-    if (!values) return std::unexpected(values.error());
-    const std::size_t rows = values->size() / static_cast<std::size_t>(widths[k]);
-    if (any && rows != count) return fail(where + ": attributes have different counts");
-    count = rows;
-    any = true;
-    columns[k] = std::move(*values);
-  }
-  if (!any) return fail(where + " has no TRANSLATION, ROTATION or SCALE");
-  std::vector<glm::dmat4> out(count, glm::dmat4(1.0));
-  for (std::size_t i = 0; i < count; ++i) {
-    glm::dmat4& m = out[i];
-    if (!columns[0].empty()) m = glm::translate(m, glm::make_vec3(&columns[0][3 * i]));
-    if (!columns[1].empty()) {
-      const double* r = &columns[1][4 * i];
-      glm::dquat q(r[3], r[0], r[1], r[2]);
-      const double length = glm::length(q);
-      if (length > 0.0 && std::isfinite(length)) q /= length;
-      m = m * glm::mat4_cast(q);
-    }
-    if (!columns[2].empty()) m = glm::scale(m, glm::make_vec3(&columns[2][3 * i]));
-  }
-  return out;
-}
-
-// A perspective camera at the node's world pose (glTF cameras look down local -Z, +Y up).
-void add_camera(const tinygltf::Model& model, const tinygltf::Node& node, const glm::dmat4& world, Scene& scene) {
-  const tinygltf::Camera& cam = model.cameras[static_cast<std::size_t>(node.camera)];
-  const std::string name = !cam.name.empty()    ? cam.name
-                           : !node.name.empty() ? node.name
-                                                : "camera " + std::to_string(node.camera);
-  if (cam.type != "perspective") return;
-  const glm::dmat3 basis(world);
-  const glm::dvec3 forward = basis * glm::dvec3(0.0, 0.0, -1.0);
-  const glm::dvec3 up_raw = basis * glm::dvec3(0.0, 1.0, 0.0);
-  const double forward_length = glm::length(forward);
-  if (!(forward_length > 0.0) || !std::isfinite(forward_length)) return;
-  const glm::dvec3 f = forward / forward_length;
-  const glm::dvec3 u_raw = up_raw - glm::dot(up_raw, f) * f;
-  const double up_length = glm::length(u_raw);
-  const double yfov = cam.perspective.yfov;
-  const glm::dvec3 eye(world[3]);
-  if (!(up_length > 1e-12 * forward_length) || !std::isfinite(up_length) || !std::isfinite(eye.x) ||
-      !std::isfinite(eye.y) || !std::isfinite(eye.z) || !(yfov > 0.0 && yfov < glm::pi<double>())) {
-    return;
-  }
-  Camera camera;
-  camera.name = name;
-  camera.eye = glm::vec3(eye);
-  camera.forward = glm::vec3(f);
-  camera.up = glm::vec3(u_raw / up_length);
-  camera.yfov = static_cast<float>(yfov);
-  if (cam.perspective.aspectRatio > 0.0) camera.aspect = static_cast<float>(cam.perspective.aspectRatio);
-  scene.cameras.push_back(std::move(camera));
-}
-
-Result<std::vector<int>> root_nodes(const tinygltf::Model& model) {
-  if (!model.scenes.empty()) {
-    const int s = model.defaultScene < 0 ? 0 : model.defaultScene;
-    if (static_cast<std::size_t>(s) >= model.scenes.size()) {
-      return fail("default scene " + std::to_string(s) + " does not exist");
-    }
-    return model.scenes[static_cast<std::size_t>(s)].nodes;
-  }
-  std::vector<bool> is_child(model.nodes.size(), false);
-  for (const tinygltf::Node& node : model.nodes) {
-    for (const int c : node.children) {
-      if (c >= 0 && static_cast<std::size_t>(c) < is_child.size()) is_child[static_cast<std::size_t>(c)] = true;
-    }
-  }
-  std::vector<int> roots;
-  for (std::size_t i = 0; i < model.nodes.size(); ++i) {
-    if (!is_child[i]) roots.push_back(static_cast<int>(i));
-  }
-  return roots;
-}
-
-Result<void> check_required_extensions(const tinygltf::Model& model) {
-  constexpr std::array<std::string_view, 3> kUnsupported{"KHR_draco_mesh_compression", "EXT_meshopt_compression",
-                                                         "KHR_meshopt_compression"};
-  for (const std::string& ext : model.extensionsRequired) {
-    if (std::find(kUnsupported.begin(), kUnsupported.end(), ext) != kUnsupported.end()) {
-      return fail("requires " + ext + ", which is not supported");
-    }
-  }
-  return {};
 }
 
 // Emits one part's triangles into the scene, as core/gltf_loader.cpp does: a mirroring transform

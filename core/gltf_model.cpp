@@ -1,0 +1,410 @@
+#include "core/gltf_model.h"
+
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <exception>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <span>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include <glm/glm.hpp>
+#include <glm/gtc/constants.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+
+namespace exao::gltf {
+namespace {
+
+// An accessor without a buffer view (zeros plus sparse values) has no bytes to bound its
+// count; this caps what a malformed file can make us allocate. 2^24 elements (16.7 million
+// vertices, 400 MB decoded as VEC3 doubles) is far beyond any real sparse-only accessor.
+constexpr std::size_t kMaxViewlessCount = std::size_t{1} << 24;
+
+int component_size(int component_type) {
+  switch (component_type) {
+    case kByte:
+    case kUnsignedByte:
+      return 1;
+    case kShort:
+    case kUnsignedShort:
+      return 2;
+    case kUnsignedInt:
+    case kFloat:
+      return 4;
+    default:
+      return 0;
+  }
+}
+
+// One component, decoded as glTF says: normalized integers map to [0, 1] or [-1, 1]
+// (glTF 2.0 section 3.11, "max(c / 127, -1)" and so on); others convert as is.
+double read_component(const unsigned char* p, int component_type, bool normalized) {
+  switch (component_type) {
+    case kByte: {
+      std::int8_t v;
+      std::memcpy(&v, p, sizeof v);
+      return normalized ? std::max(v / 127.0, -1.0) : v;
+    }
+    case kUnsignedByte: {
+      std::uint8_t v;
+      std::memcpy(&v, p, sizeof v);
+      return normalized ? v / 255.0 : v;
+    }
+    case kShort: {
+      std::int16_t v;
+      std::memcpy(&v, p, sizeof v);
+      return normalized ? std::max(v / 32767.0, -1.0) : v;
+    }
+    case kUnsignedShort: {
+      std::uint16_t v;
+      std::memcpy(&v, p, sizeof v);
+      return normalized ? v / 65535.0 : v;
+    }
+    case kUnsignedInt: {
+      std::uint32_t v;
+      std::memcpy(&v, p, sizeof v);
+      return normalized ? v / 4294967295.0 : v;
+    }
+    default: {  // kFloat: the caller allows no other type
+      float v;
+      std::memcpy(&v, p, sizeof v);
+      return v;
+    }
+  }
+}
+
+// Whether `count` elements of `element` bytes, `stride` apart, starting at `offset`, fit in
+// `length` bytes; written so that no intermediate value can overflow.
+bool fits(std::size_t offset, std::size_t count, std::size_t stride, std::size_t element,
+          std::size_t length) {
+  if (count == 0) return offset <= length;
+  if (element > length || offset > length - element) return false;
+  return stride == 0 || count - 1 <= (length - element - offset) / stride;
+}
+
+// The first byte of `count` elements inside buffer view `view_index`, after checking that
+// they lie inside the view and the view inside its buffer.
+Result<const unsigned char*> view_bytes(const tinygltf::Model& model, int view_index,
+                                        std::size_t offset, std::size_t count, std::size_t stride,
+                                        std::size_t element, const std::string& what) {
+  if (view_index < 0 || static_cast<std::size_t>(view_index) >= model.bufferViews.size()) {
+    return fail(what + " refers to buffer view " + std::to_string(view_index) + ", file has " +
+                std::to_string(model.bufferViews.size()));
+  }
+  const tinygltf::BufferView& view = model.bufferViews[static_cast<std::size_t>(view_index)];
+  if (view.buffer < 0 || static_cast<std::size_t>(view.buffer) >= model.buffers.size()) {
+    return fail("buffer view " + std::to_string(view_index) + " refers to buffer " +
+                std::to_string(view.buffer) + ", file has " + std::to_string(model.buffers.size()));
+  }
+  const std::vector<unsigned char>& data =
+      model.buffers[static_cast<std::size_t>(view.buffer)].data;
+  if (!fits(view.byteOffset, 1, 0, view.byteLength, data.size())) {
+    return fail("buffer view " + std::to_string(view_index) + " (bytes " +
+                std::to_string(view.byteOffset) + "+" + std::to_string(view.byteLength) +
+                ") exceeds buffer " + std::to_string(view.buffer) + " (" +
+                std::to_string(data.size()) + " bytes)");
+  }
+  if (!fits(offset, count, stride, element, view.byteLength)) {
+    return fail(what + " (" + std::to_string(count) + " elements from byte " +
+                std::to_string(offset) + ") exceeds its buffer view " + std::to_string(view_index) +
+                " (" + std::to_string(view.byteLength) + " bytes)");
+  }
+  return data.data() + view.byteOffset + offset;
+}
+
+}  // namespace
+
+// Joins tinygltf's multi-line messages into one short line.
+std::string one_line(std::string_view text) {
+  std::string out;
+  for (const char c : text) {
+    if (c == '\n' || c == '\r') {
+      if (!out.empty() && out.back() != ' ') out += "; ";
+    } else {
+      out += c;
+    }
+  }
+  while (!out.empty() && (out.back() == ' ' || out.back() == ';')) out.pop_back();
+  constexpr std::size_t kMaxLength = 200;
+  if (out.size() > kMaxLength) out = out.substr(0, kMaxLength) + "...";
+  return out.empty() ? "unreadable glTF" : out;
+}
+
+// Reads accessor `index` as `count * components` numbers, decoded per read_component, with
+// byteStride honoured and any sparse substitution applied. `allowed` lists the component
+// types this use accepts; anything else is an error, as is a type of another width, or
+// `normalized` where the use forbids it (indices).
+Result<std::vector<double>> read_accessor(const tinygltf::Model& model, int index, int components,
+                                          std::span<const int> allowed, bool may_normalize,
+                                          const std::string& what) {
+  if (index < 0 || static_cast<std::size_t>(index) >= model.accessors.size()) {
+    return fail(what + " refers to accessor " + std::to_string(index) + ", file has " +
+                std::to_string(model.accessors.size()));
+  }
+  const tinygltf::Accessor& acc = model.accessors[static_cast<std::size_t>(index)];
+  const std::string name = "accessor " + std::to_string(index) + " (" + what + ")";
+  if (tinygltf::GetNumComponentsInType(static_cast<std::uint32_t>(acc.type)) != components) {
+    return fail(
+        name + " has " +
+        std::to_string(tinygltf::GetNumComponentsInType(static_cast<std::uint32_t>(acc.type))) +
+        " components, expected " + std::to_string(components));
+  }
+  if (std::find(allowed.begin(), allowed.end(), acc.componentType) == allowed.end()) {
+    return fail(name + " has unsupported component type " + std::to_string(acc.componentType));
+  }
+  if (acc.normalized && !may_normalize) return fail(name + " must not be normalized");
+  const auto n = static_cast<std::size_t>(components);
+  const auto size = static_cast<std::size_t>(component_size(acc.componentType));
+  const std::size_t element = n * size;
+  if (acc.bufferView < 0 && acc.count > kMaxViewlessCount) {
+    return fail(name + " has " + std::to_string(acc.count) + " elements and no buffer view");
+  }
+
+  // The bytes are checked before anything is allocated, so a hostile count fails here.
+  const unsigned char* base = nullptr;
+  std::size_t stride = element;
+  if (acc.bufferView >= 0) {
+    if (static_cast<std::size_t>(acc.bufferView) < model.bufferViews.size()) {
+      const std::size_t given =
+          model.bufferViews[static_cast<std::size_t>(acc.bufferView)].byteStride;
+      if (given != 0) stride = given;
+    }
+    if (stride < element) {
+      return fail(name + ": byteStride " + std::to_string(stride) + " is less than an element (" +
+                  std::to_string(element) + " bytes)");
+    }
+    auto bytes =
+        view_bytes(model, acc.bufferView, acc.byteOffset, acc.count, stride, element, name);
+    if (!bytes) return std::unexpected(bytes.error());
+    base = *bytes;
+  }
+
+  // Without a buffer view the base values are zeros (glTF 2.0 section 3.6.2.3).
+  std::vector<double> values(acc.count * n, 0.0);
+  if (base != nullptr) {
+    for (std::size_t i = 0; i < acc.count; ++i) {
+      const unsigned char* p = base + i * stride;
+      for (std::size_t c = 0; c < n; ++c) {
+        values[i * n + c] = read_component(p + c * size, acc.componentType, acc.normalized);
+      }
+    }
+  }
+
+  if (acc.sparse.isSparse) {
+    const int count = acc.sparse.count;
+    const int index_type = acc.sparse.indices.componentType;
+    if (count < 0 || static_cast<std::size_t>(count) > acc.count) {
+      return fail(name + ": sparse count " + std::to_string(count) + " exceeds count " +
+                  std::to_string(acc.count));
+    }
+    if (std::find(kIndexTypes.begin(), kIndexTypes.end(), index_type) == kIndexTypes.end()) {
+      return fail(name + ": sparse indices have unsupported component type " +
+                  std::to_string(index_type));
+    }
+    if (acc.sparse.indices.byteOffset < 0 || acc.sparse.values.byteOffset < 0) {
+      return fail(name + ": negative sparse byteOffset");
+    }
+    const auto sparse_count = static_cast<std::size_t>(count);
+    const auto index_size = static_cast<std::size_t>(component_size(index_type));
+    // Sparse indices and values are tightly packed (glTF 2.0 section 5.1.3).
+    auto index_bytes = view_bytes(model, acc.sparse.indices.bufferView,
+                                  static_cast<std::size_t>(acc.sparse.indices.byteOffset),
+                                  sparse_count, index_size, index_size, name + " sparse indices");
+    if (!index_bytes) return std::unexpected(index_bytes.error());
+    auto value_bytes = view_bytes(model, acc.sparse.values.bufferView,
+                                  static_cast<std::size_t>(acc.sparse.values.byteOffset),
+                                  sparse_count, element, element, name + " sparse values");
+    if (!value_bytes) return std::unexpected(value_bytes.error());
+    for (std::size_t i = 0; i < sparse_count; ++i) {
+      const auto target = static_cast<std::size_t>(
+          read_component(*index_bytes + i * index_size, index_type, false));
+      if (target >= acc.count) {
+        return fail(name + ": sparse index " + std::to_string(target) + " >= count " +
+                    std::to_string(acc.count));
+      }
+      for (std::size_t c = 0; c < n; ++c) {
+        values[target * n + c] = read_component(*value_bytes + i * element + c * size,
+                                                acc.componentType, acc.normalized);
+      }
+    }
+  }
+  return values;
+}
+
+// A node's local transform: its matrix, or T * R * S (glTF 2.0 section 3.5.3).
+Result<glm::dmat4> local_transform(const tinygltf::Node& node, int index) {
+  const std::string name = "node " + std::to_string(index);
+  if (!node.matrix.empty()) {
+    if (node.matrix.size() != 16) {
+      return fail(name + ": matrix has " + std::to_string(node.matrix.size()) +
+                  " numbers, expected 16");
+    }
+    return glm::make_mat4(node.matrix.data());  // column-major, as glTF stores it
+  }
+  glm::dmat4 m(1.0);
+  if (!node.translation.empty()) {
+    if (node.translation.size() != 3) return fail(name + ": translation needs 3 numbers");
+    m = glm::translate(m, glm::make_vec3(node.translation.data()));
+  }
+  if (!node.rotation.empty()) {
+    if (node.rotation.size() != 4) return fail(name + ": rotation needs 4 numbers");
+    // glTF stores x, y, z, w; glm's constructor takes w first.
+    glm::dquat q(node.rotation[3], node.rotation[0], node.rotation[1], node.rotation[2]);
+    const double length = glm::length(q);
+    if (length > 0.0 && std::isfinite(length)) q /= length;
+    m = m * glm::mat4_cast(q);
+  }
+  if (!node.scale.empty()) {
+    if (node.scale.size() != 3) return fail(name + ": scale needs 3 numbers");
+    m = glm::scale(m, glm::make_vec3(node.scale.data()));
+  }
+  return m;
+}
+
+// Per-instance local transforms from EXT_mesh_gpu_instancing, or one identity when the node
+// has none. Each row is T * R * S, applied before the node's world matrix.
+Result<std::vector<glm::dmat4>> instance_transforms(const tinygltf::Model& model,
+                                                    const tinygltf::Node& node, int index) {
+  const auto ext = node.extensions.find("EXT_mesh_gpu_instancing");
+  if (ext == node.extensions.end()) return std::vector<glm::dmat4>{glm::dmat4(1.0)};
+  const std::string where = "node " + std::to_string(index) + " EXT_mesh_gpu_instancing";
+  if (!ext->second.IsObject() || !ext->second.Has("attributes") ||
+      !ext->second.Get("attributes").IsObject()) {
+    return fail(where + " has no attributes");
+  }
+  const tinygltf::Value& attributes = ext->second.Get("attributes");
+  std::array<std::vector<double>, 3> columns;  // translation, rotation, scale
+  const std::array<const char*, 3> names{"TRANSLATION", "ROTATION", "SCALE"};
+  const std::array<int, 3> widths{3, 4, 3};
+  std::size_t count = 0;
+  bool any = false;
+  for (std::size_t k = 0; k < 3; ++k) {
+    if (!attributes.Has(names[k])) continue;
+    const tinygltf::Value& v = attributes.Get(names[k]);
+    if (!v.IsNumber()) return fail(where + " " + names[k] + " is not an accessor index");
+    const std::span<const int> types =
+        k == 1 ? std::span<const int>(kRotationTypes) : std::span<const int>(kFloatOnly);
+    auto values =
+        read_accessor(model, v.GetNumberAsInt(), widths[k], types, true, where + " " + names[k]);
+    if (!values) return std::unexpected(values.error());
+    const std::size_t rows = values->size() / static_cast<std::size_t>(widths[k]);
+    if (any && rows != count) return fail(where + ": attributes have different counts");
+    count = rows;
+    any = true;
+    columns[k] = std::move(*values);
+  }
+  if (!any) return fail(where + " has no TRANSLATION, ROTATION or SCALE");
+  std::vector<glm::dmat4> out(count, glm::dmat4(1.0));
+  for (std::size_t i = 0; i < count; ++i) {
+    glm::dmat4& m = out[i];
+    if (!columns[0].empty()) m = glm::translate(m, glm::make_vec3(&columns[0][3 * i]));
+    if (!columns[1].empty()) {
+      const double* r = &columns[1][4 * i];
+      glm::dquat q(r[3], r[0], r[1], r[2]);
+      const double length = glm::length(q);
+      if (length > 0.0 && std::isfinite(length)) q /= length;
+      m = m * glm::mat4_cast(q);
+    }
+    if (!columns[2].empty()) m = glm::scale(m, glm::make_vec3(&columns[2][3 * i]));
+  }
+  return out;
+}
+
+// A camera at the node's world pose: glTF cameras look down their local -Z with +Y up.
+void add_camera(const tinygltf::Model& model, const tinygltf::Node& node, const glm::dmat4& world,
+                Scene& scene) {
+  const tinygltf::Camera& cam = model.cameras[static_cast<std::size_t>(node.camera)];
+  const std::string name = !cam.name.empty()    ? cam.name
+                           : !node.name.empty() ? node.name
+                                                : "camera " + std::to_string(node.camera);
+  if (cam.type != "perspective") {
+    scene.report.notes.push_back("camera '" + name + "' is " + cam.type +
+                                 ": skipped (perspective only)");
+    return;
+  }
+  const glm::dmat3 basis(world);
+  const glm::dvec3 forward = basis * glm::dvec3(0.0, 0.0, -1.0);
+  const glm::dvec3 up_raw = basis * glm::dvec3(0.0, 1.0, 0.0);
+  const double forward_length = glm::length(forward);
+  // Gram-Schmidt: the node's matrix may carry scale or shear.
+  const glm::dvec3 f = forward / forward_length;
+  const glm::dvec3 u_raw = up_raw - glm::dot(up_raw, f) * f;
+  const double up_length = glm::length(u_raw);
+  const double yfov = cam.perspective.yfov;
+  const glm::dvec3 eye(world[3]);
+  const bool finite = std::isfinite(forward_length) && std::isfinite(up_length) &&
+                      std::isfinite(eye.x) && std::isfinite(eye.y) && std::isfinite(eye.z);
+  if (!finite || forward_length <= 0.0 || up_length <= 1e-12 * forward_length) {
+    scene.report.notes.push_back("camera '" + name + "' has a degenerate transform: skipped");
+    return;
+  }
+  if (!(yfov > 0.0 && yfov < glm::pi<double>())) {
+    scene.report.notes.push_back("camera '" + name + "' has yfov " + std::to_string(yfov) +
+                                 ": skipped");
+    return;
+  }
+  Camera camera;
+  camera.name = name;
+  camera.eye = glm::vec3(eye);
+  camera.forward = glm::vec3(f);
+  camera.up = glm::vec3(u_raw / up_length);
+  camera.yfov = static_cast<float>(yfov);
+  if (cam.perspective.aspectRatio > 0.0) {
+    camera.aspect = static_cast<float>(cam.perspective.aspectRatio);
+  }
+  scene.cameras.push_back(std::move(camera));
+}
+
+// Extensions that change how geometry is stored; a file that requires one we cannot decode
+// would otherwise load as garbage.
+Result<void> check_required_extensions(const tinygltf::Model& model) {
+  constexpr std::array<std::string_view, 3> kUnsupported{
+      "KHR_draco_mesh_compression", "EXT_meshopt_compression", "KHR_meshopt_compression"};
+  for (const std::string& ext : model.extensionsRequired) {
+    if (std::find(kUnsupported.begin(), kUnsupported.end(), ext) != kUnsupported.end()) {
+      return fail("requires " + ext + ", which is not supported");
+    }
+  }
+  return {};
+}
+
+// The root nodes to draw: the default scene's, else scene 0's, else every node that is
+// nobody's child.
+Result<std::vector<int>> root_nodes(const tinygltf::Model& model) {
+  if (!model.scenes.empty()) {
+    int s = model.defaultScene;
+    if (s < 0) s = 0;
+    if (static_cast<std::size_t>(s) >= model.scenes.size()) {
+      return fail("default scene " + std::to_string(s) + " does not exist (file has " +
+                  std::to_string(model.scenes.size()) + ")");
+    }
+    return model.scenes[static_cast<std::size_t>(s)].nodes;
+  }
+  std::vector<bool> is_child(model.nodes.size(), false);
+  for (const tinygltf::Node& node : model.nodes) {
+    for (const int c : node.children) {
+      if (c >= 0 && static_cast<std::size_t>(c) < is_child.size()) {
+        is_child[static_cast<std::size_t>(c)] = true;
+      }
+    }
+  }
+  std::vector<int> roots;
+  for (std::size_t i = 0; i < model.nodes.size(); ++i) {
+    if (!is_child[i]) roots.push_back(static_cast<int>(i));
+  }
+  return roots;
+}
+
+}  // namespace exao::gltf

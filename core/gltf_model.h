@@ -1,0 +1,73 @@
+#pragma once
+// exao::gltf: reading a tinygltf Model safely, shared by the scene loader (core/gltf_loader.cpp)
+// and the bake (bake/), so that both see the same nodes, transforms and accessor values.
+// Internal: it exposes tinygltf, which the modules that include it link privately.
+//
+// tinygltf parses the JSON and loads the buffers, but it does not check that an accessor's
+// bytes lie inside its buffer, nor that indices refer to existing nodes. Every such check is
+// done here before any byte is read: a malformed file yields an error, never a read out of
+// bounds.
+
+#include <tiny_gltf.h>
+
+#include <array>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "core/error.h"
+#include "core/scene.h"
+
+namespace exao::gltf {
+
+inline constexpr int kByte = TINYGLTF_COMPONENT_TYPE_BYTE;
+inline constexpr int kUnsignedByte = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
+inline constexpr int kShort = TINYGLTF_COMPONENT_TYPE_SHORT;
+inline constexpr int kUnsignedShort = TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
+inline constexpr int kUnsignedInt = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
+inline constexpr int kFloat = TINYGLTF_COMPONENT_TYPE_FLOAT;
+
+// Component types each use may have (glTF 2.0 section 3.7.2.1 and KHR_mesh_quantization).
+inline constexpr std::array kIndexTypes{kUnsignedByte, kUnsignedShort, kUnsignedInt};
+inline constexpr std::array kPositionTypes{kFloat, kByte, kUnsignedByte, kShort, kUnsignedShort};
+inline constexpr std::array kNormalTypes{kFloat, kByte, kShort};
+inline constexpr std::array kTexcoordTypes{kFloat, kByte, kUnsignedByte, kShort, kUnsignedShort};
+inline constexpr std::array kColorTypes{kFloat, kUnsignedByte, kUnsignedShort};
+inline constexpr std::array kFloatOnly{kFloat};
+inline constexpr std::array kRotationTypes{kFloat, kByte, kShort};
+
+/// Joins tinygltf's multi-line messages into one short line.
+[[nodiscard]] std::string one_line(std::string_view text);
+
+/// Accessor `index` as count * components numbers, normalised integers decoded to [0, 1] or
+/// [-1, 1] (glTF 2.0 section 3.11), byteStride honoured, sparse values substituted. `allowed`
+/// lists the component types this use accepts; anything else is an error, as is a type of
+/// another width, or `normalized` where `may_normalize` is false (indices). `what` names the use.
+[[nodiscard]] Result<std::vector<double>> read_accessor(const tinygltf::Model& model, int index, int components,
+                                                        std::span<const int> allowed, bool may_normalize,
+                                                        const std::string& what);
+
+/// A node's local transform: its matrix, or T * R * S (glTF 2.0 section 3.5.3).
+[[nodiscard]] Result<glm::dmat4> local_transform(const tinygltf::Node& node, int index);
+
+/// Per-instance local transforms from EXT_mesh_gpu_instancing, or one identity when the node
+/// has none. Each row is T * R * S, applied before the node's world matrix.
+[[nodiscard]] Result<std::vector<glm::dmat4>> instance_transforms(const tinygltf::Model& model,
+                                                                  const tinygltf::Node& node, int index);
+
+/// Adds the node's perspective camera at its world pose to scene.cameras (glTF cameras look down
+/// their local -Z with +Y up); other cameras and degenerate poses are skipped with a note.
+void add_camera(const tinygltf::Model& model, const tinygltf::Node& node, const glm::dmat4& world, Scene& scene);
+
+/// Fails when the file requires an extension that changes how geometry is stored and that exao
+/// cannot decode (Draco, meshopt): it would otherwise load as garbage.
+[[nodiscard]] Result<void> check_required_extensions(const tinygltf::Model& model);
+
+/// The root nodes to draw: the default scene's, else scene 0's, else every node that is nobody's
+/// child.
+[[nodiscard]] Result<std::vector<int>> root_nodes(const tinygltf::Model& model);
+
+}  // namespace exao::gltf
