@@ -168,39 +168,6 @@ void equalise_radii(std::vector<glm::dvec2>& sites, Rng& rng) {
   }
 }
 
-// Position of (x, y) in [0, 2^16)^2 along a Hilbert curve.
-std::uint64_t hilbert_index(std::uint32_t x, std::uint32_t y) {
-  std::uint64_t d = 0;
-  for (std::uint32_t s = 1u << 15; s > 0; s >>= 1) {
-    const std::uint32_t rx = (x & s) ? 1 : 0;
-    const std::uint32_t ry = (y & s) ? 1 : 0;
-    d += static_cast<std::uint64_t>(s) * s * ((3 * rx) ^ ry);
-    if (ry == 0) {  // rotate the quadrant so the curve stays continuous
-      if (rx == 1) {
-        x = s - 1 - (x & (s - 1));
-        y = s - 1 - (y & (s - 1));
-      }
-      std::swap(x, y);
-    }
-  }
-  return d;
-}
-
-// Orders the samples along a Hilbert curve over the disc, so that the 64 rays of one mask word
-// point into one compact patch of the hemisphere: a triangle's or a node's mask then touches few
-// words, and kernels can skip the words a cone cannot reach.
-void order_along_curve(std::vector<glm::dvec2>& sites) {
-  std::vector<std::pair<std::uint64_t, std::size_t>> keyed(sites.size());
-  for (std::size_t i = 0; i < sites.size(); ++i) {
-    const auto q = [](double v) { return static_cast<std::uint32_t>(std::clamp((v + 1.0) * 0.5, 0.0, 1.0) * 65535.0); };
-    keyed[i] = {hilbert_index(q(sites[i].x), q(sites[i].y)), i};
-  }
-  std::sort(keyed.begin(), keyed.end());
-  std::vector<glm::dvec2> sorted(sites.size());
-  for (std::size_t i = 0; i < keyed.size(); ++i) sorted[i] = sites[keyed[i].second];
-  sites = std::move(sorted);
-}
-
 void finish(SamplePattern& pattern) {
   pattern.points.resize(pattern.directions.size());
   float min_z = 1.0f;
@@ -265,7 +232,6 @@ SamplePattern build_sample_pattern(int count, Falloff falloff, std::uint64_t see
   lloyd.jitter(sites, rng);
   for (int step = 0; step < 3; ++step) lloyd.relax(sites);
   equalise_radii(sites, rng);
-  order_along_curve(sites);
 
   SamplePattern pattern;
   pattern.count = count;

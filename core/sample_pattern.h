@@ -41,8 +41,7 @@ inline constexpr int kMaxSamples = 1024;
 
 /// Builds the pattern: N random points on the unit disc, Lloyd-relaxed, each moved to a random
 /// point of its Voronoi cell, relaxed a little more, radii re-spaced to stratified levels of r^2
-/// (so the horizon is sampled as densely as the rest), ordered along a Hilbert curve over the disc
-/// (so each 64-ray mask word covers one compact patch of directions), and lifted to the hemisphere
+/// (so the horizon is sampled as densely as the rest), and lifted to the hemisphere
 /// (z = sqrt(1 - x^2 - y^2)), which makes the directions cosine-weighted. Lengths come from the
 /// falloff's inverse CDF at stratified, randomly permuted levels, so that the expected value of
 /// Eq. 3 equals Eq. 2. Deterministic for (count, falloff, seed); single-threaded, well under a
