@@ -134,10 +134,19 @@ lut::TriangleSet permuted(const lut::TriangleSet& source, const std::vector<std:
 
 }  // namespace
 
+Result<void> check_options(const BvhOptions& options) {
+  if (options.branching != 2 && options.branching != 4) {
+    return fail("bvh.branching: must be 2 or 4, got " + std::to_string(options.branching));
+  }
+  if (options.max_leaf_size < 1 || options.max_leaf_size > 8) {
+    return fail("bvh.max_leaf_size: must be from 1 to 8, got " + std::to_string(options.max_leaf_size));
+  }
+  return {};
+}
+
 Result<Bvh> Bvh::build(const lut::TriangleSet& triangles, const BvhOptions& options) {
   if (triangles.size() == 0) return fail("bvh: the scene has no triangles");
-  if (options.branching != 2 && options.branching != 4) return fail("--branching: must be 2 or 4");
-  if (options.max_leaf_size < 1 || options.max_leaf_size > 8) return fail("--leaf-size: must be from 1 to 8");
+  if (auto ok = check_options(options); !ok) return std::unexpected(ok.error());
 
   RTCDevice device = rtcNewDevice(nullptr);
   if (!device) return fail("bvh: cannot create an Embree device");

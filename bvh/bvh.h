@@ -32,6 +32,9 @@ struct BvhOptions {
   int max_leaf_size = 8; // triangles per leaf, 1-8 (paper Sec. 6)
 };
 
+/// Checks both fields; the error names the field ("bvh.branching") and its value.
+[[nodiscard]] Result<void> check_options(const BvhOptions& options);
+
 struct Bvh {
   std::vector<Node> nodes;          // nodes[0] is the root
   lut::TriangleSet triangles;       // in leaf order: leaf triangles are contiguous

@@ -12,9 +12,9 @@
 
 namespace exao::bvh {
 
-/// Masks of `receivers`, returned in the caller's order. Internally the receivers are visited in
-/// Morton order of their positions (nearby receivers traverse alike, so caches stay warm) by TBB
-/// tasks. With `stats`, the work counters are summed into it.
+/// Masks of `receivers`, in their order, by TBB tasks over consecutive receivers: give them in a
+/// coherent order (engine/morton.h; nearby receivers traverse alike, so caches stay warm). With
+/// `stats`, the work counters are summed into it.
 [[nodiscard]] MaskSet occlusion(const Bvh& bvh, const lut::MaskEngine& engine, std::span<const Receiver> receivers,
                                 const ProgressCallback& progress = {}, TraversalStats* stats = nullptr);
 

@@ -10,6 +10,12 @@
 
 namespace exao {
 
+/// AO from a receiver's blocked-ray count: 1 - blocked / N, 1 fully open, 0 fully occluded (glTF
+/// occlusion semantics). The one formula every output of exao uses.
+[[nodiscard]] inline float ao_from_blocked(int blocked, int samples) {
+  return 1.0f - static_cast<float>(blocked) / static_cast<float>(samples);
+}
+
 class MaskSet {
  public:
   MaskSet() = default;
@@ -34,11 +40,11 @@ class MaskSet {
     for (const std::uint64_t w : row(receiver)) n += std::popcount(w);
     return n;
   }
-  /// AO = 1 - blocked / N: 1 is fully open, 0 fully occluded (glTF occlusion semantics).
-  [[nodiscard]] float ao(std::size_t receiver) const {
-    return 1.0f - static_cast<float>(blocked_count(receiver)) / static_cast<float>(samples_);
-  }
+  /// ao_from_blocked of the receiver's row.
+  [[nodiscard]] float ao(std::size_t receiver) const { return ao_from_blocked(blocked_count(receiver), samples_); }
   [[nodiscard]] const std::vector<std::uint64_t>& bits() const { return bits_; }
+  /// Every row, back to back: size() * words() words.
+  [[nodiscard]] std::span<std::uint64_t> all_rows() { return bits_; }
 
  private:
   int samples_ = 0;

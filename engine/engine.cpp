@@ -1,0 +1,263 @@
+#include "engine/engine.h"
+
+#include <algorithm>
+#include <string>
+
+#include <tbb/task_arena.h>
+
+#include "bvh/occlusion.h"
+#include "core/check.h"
+#include "engine/morton.h"
+#include "lut/brute.h"
+#include "lut/float_mode.h"
+#include "raster/gbuffer.h"
+#include "raster/occlusion.h"
+
+namespace exao::engine {
+
+struct Engine::Impl {
+  Options options;
+  Receivers served = Receivers::Points;
+  std::shared_ptr<const Geometry> geometry;
+  ShadowRays rays;
+  std::optional<lut::MaskEngine> masks;  // every method but embree
+  std::unique_ptr<tbb::task_arena> arena;
+
+  // The masks of consecutive receivers by the method's backend, in their order.
+  [[nodiscard]] MaskSet backend_masks(std::span<const Receiver> receivers, const ProgressCallback& progress,
+                                      const RunOptions& run) const {
+    switch (options.method) {
+      case Method::Embree: {
+        EmbreeOptions embree = options.embree;
+        if (run.embree_rays) embree.rays = *run.embree_rays;
+        return geometry->embree()->occlusion(rays, receivers, embree, progress);
+      }
+      case Method::Brute: return lut::brute_occlusion(*masks, *geometry->triangles(), receivers, progress);
+      case Method::Bvh:
+        return bvh::occlusion(*geometry->bvh(), *masks, receivers, progress, run.stats ? &run.stats->traversal : nullptr);
+      case Method::Raster: break;  // no receivers of its own choosing: refused by check_serves
+    }
+    EXAO_CHECK(options.method != Method::Raster);
+    return {};
+  }
+};
+
+namespace {
+
+// Why an output cannot take a batch of `count` receivers, or an empty string.
+std::string output_problem(const Outputs& out, std::size_t count, std::size_t words) {
+  if (!out.ao.empty() && out.ao.size() != count) {
+    return "outputs.ao: holds " + std::to_string(out.ao.size()) + " values for " + std::to_string(count) + " receivers";
+  }
+  if (!out.blocked.empty() && out.blocked.size() != count) {
+    return "outputs.blocked: holds " + std::to_string(out.blocked.size()) + " values for " + std::to_string(count) +
+           " receivers";
+  }
+  if (!out.masks.empty() && out.masks.size() != count * words) {
+    return "outputs.masks: holds " + std::to_string(out.masks.size()) + " words for " + std::to_string(count) +
+           " receivers of " + std::to_string(words);
+  }
+  return {};
+}
+
+}  // namespace
+
+Engine::Engine(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+Engine::Engine(Engine&&) noexcept = default;
+Engine& Engine::operator=(Engine&&) noexcept = default;
+Engine::~Engine() = default;
+
+Result<Engine> Engine::build(const Scene& scene, const Options& options, Receivers receivers) {
+  // Options first: a bad one is reported before any work on the scene.
+  if (auto ok = check_options(options); !ok) return std::unexpected(ok.error());
+  if (auto ok = check_serves(options, receivers); !ok) return std::unexpected(ok.error());
+  GeometryOptions geometry_options;
+  geometry_options.sidedness = options.sidedness;
+  geometry_options.bvh = options.bvh;
+  geometry_options.embree = receivers == Receivers::Pixels && options.method != Method::Raster;
+  geometry_options.threads = options.threads;
+  const Method methods[] = {options.method};
+  Result<std::shared_ptr<const Geometry>> geometry = Geometry::build(scene, methods, geometry_options);
+  if (!geometry) return std::unexpected(geometry.error());
+  return build(std::move(*geometry), options, receivers);
+}
+
+Result<Engine> Engine::build(std::shared_ptr<const Geometry> geometry, const Options& options, Receivers receivers) {
+  if (auto ok = check_options(options); !ok) return std::unexpected(ok.error());
+  if (auto ok = check_serves(options, receivers); !ok) return std::unexpected(ok.error());
+  EXAO_CHECK(geometry != nullptr);
+  if (!geometry->serves(options.method)) {
+    return fail(std::string("method: the geometry was not prepared for ") + method_name(options.method));
+  }
+  auto impl = std::make_unique<Impl>();
+  impl->options = options;
+  impl->options.sidedness = geometry->sidedness();
+  impl->options.bvh = geometry->bvh_options();
+  impl->served = receivers;
+  impl->geometry = std::move(geometry);
+  impl->arena = std::make_unique<tbb::task_arena>(options.threads > 0 ? options.threads
+                                                                       : static_cast<int>(tbb::task_arena::automatic));
+  impl->arena->initialize();
+
+  // Defaults resolved once against the scene's size (engine/options.h).
+  const float diagonal = impl->geometry->bounds().diagonal();
+  const float radius = options.radius.resolve(diagonal);
+  const float offset = options.origin_offset.value_or(kDefaultOffsetFraction * diagonal);
+  Result<void> built;
+  impl->arena->execute([&] {
+    Result<SamplePattern> pattern = make_sample_pattern(options.samples, options.falloff, options.pattern_seed);
+    if (!pattern) {
+      built = std::unexpected(pattern.error());
+      return;
+    }
+    Result<ShadowRays> rays = make_shadow_rays(std::move(*pattern), radius, offset);
+    if (!rays) {
+      built = std::unexpected(rays.error());
+      return;
+    }
+    impl->rays = std::move(*rays);
+    if (options.method == Method::Embree) return;
+    Result<lut::MaskEngine> masks = lut::MaskEngine::build(impl->rays, options.masks, options.table_resolution);
+    if (!masks) {
+      built = std::unexpected(masks.error());
+      return;
+    }
+    impl->masks = std::move(*masks);
+  });
+  if (!built) return std::unexpected(built.error());
+  return Engine(std::move(impl));
+}
+
+const Options& Engine::options() const { return impl_->options; }
+const ShadowRays& Engine::rays() const { return impl_->rays; }
+const lut::MaskEngine* Engine::mask_engine() const { return impl_->masks ? &*impl_->masks : nullptr; }
+const Geometry& Engine::geometry() const { return *impl_->geometry; }
+int Engine::threads() const { return impl_->arena->max_concurrency(); }
+
+Result<void> Engine::run(std::span<const Receiver> receivers, const Outputs& outputs, const RunOptions& run) const {
+  const Impl& impl = *impl_;
+  if (auto ok = check_serves(impl.options, Receivers::Points); !ok) return ok;
+  const std::size_t words = mask_words();
+  if (const std::string problem = output_problem(outputs, receivers.size(), words); !problem.empty()) return fail(problem);
+  if (receivers.empty()) return {};
+  const int n = samples();
+  impl.arena->execute([&] {
+    // Chunks of the Morton order: each chunk's receivers are neighbours, and only one chunk's
+    // masks exist at a time.
+    const std::vector<std::uint32_t> order = morton_order(receivers);
+    std::vector<Receiver> chunk(std::min(kChunk, receivers.size()));
+    for (std::size_t begin = 0; begin < receivers.size(); begin += kChunk) {
+      const std::size_t count = std::min(kChunk, receivers.size() - begin);
+      for (std::size_t i = 0; i < count; ++i) chunk[i] = receivers[order[begin + i]];
+      ProgressCallback progress;
+      if (run.progress) {
+        progress = [&, begin](std::size_t done, std::size_t) { run.progress(begin + done, receivers.size()); };
+      }
+      const MaskSet masks = impl.backend_masks(std::span<const Receiver>(chunk.data(), count), progress, run);
+      EXAO_CHECK_EQ(masks.size(), count);
+      for (std::size_t i = 0; i < count; ++i) {
+        const std::uint32_t r = order[begin + i];
+        const int blocked = masks.blocked_count(i);
+        if (!outputs.ao.empty()) outputs.ao[r] = ao_from_blocked(blocked, n);
+        if (!outputs.blocked.empty()) outputs.blocked[r] = static_cast<std::uint32_t>(blocked);
+        if (!outputs.masks.empty()) std::copy_n(masks.row(i).begin(), words, outputs.masks.begin() + r * words);
+      }
+    }
+  });
+  return {};
+}
+
+Result<std::vector<float>> Engine::ao(std::span<const Receiver> receivers, const RunOptions& run) const {
+  std::vector<float> out(receivers.size());
+  Outputs outputs;
+  outputs.ao = out;
+  if (auto ok = this->run(receivers, outputs, run); !ok) return std::unexpected(ok.error());
+  return out;
+}
+
+Result<MaskSet> Engine::masks(std::span<const Receiver> receivers, const RunOptions& run) const {
+  MaskSet out(receivers.size(), samples());
+  Outputs outputs;
+  outputs.masks = out.all_rows();
+  if (auto ok = this->run(receivers, outputs, run); !ok) return std::unexpected(ok.error());
+  return out;
+}
+
+void Engine::mask_one(const Receiver& receiver, std::span<std::uint64_t> words) const {
+  const Impl& impl = *impl_;
+  const std::size_t count = mask_words();
+  EXAO_CHECK_EQ(words.size(), count);
+  EXAO_CHECK(impl.options.method != Method::Raster);
+  if (impl.options.method == Method::Embree) {
+    // One receiver: single rays (packets across receivers would have one live lane).
+    EmbreeOptions embree = impl.options.embree;
+    embree.rays = EmbreeRays::Single;
+    const MaskSet set = impl.geometry->embree()->occlusion(impl.rays, std::span<const Receiver>(&receiver, 1), embree);
+    std::copy_n(set.row(0).begin(), count, words.begin());
+    return;
+  }
+  const Frame frame = impl.rays.frame(receiver);
+  with_mask_bits(samples(), [&](auto bits) {
+    constexpr int Bits = decltype(bits)::value;
+    const lut::FlushDenormals flush;  // the same float mode on every thread (lut/float_mode.h)
+    Mask<Bits> mask;
+    if (impl.options.method == Method::Bvh) {
+      mask = bvh::traverse<Bits, false>(*impl.geometry->bvh(), *impl.masks, frame, nullptr);
+    } else {
+      // brute's definition, without the grid a batch builds: every triangle.
+      const lut::TriangleSet& triangles = *impl.geometry->triangles();
+      const Mask<Bits> all = impl.masks->all_rays<Bits>();
+      for (std::uint32_t t = 0; t < triangles.size(); ++t) {
+        mask |= impl.masks->triangle_mask<Bits>(triangles, t, frame);
+        if (mask == all) break;  // nothing left to block
+      }
+    }
+    std::copy_n(mask.words.begin(), count, words.begin());
+  });
+}
+
+Result<PixelReceivers> Engine::pixel_receivers(const Camera& camera, int width, int height) const {
+  const Impl& impl = *impl_;
+  if (!impl.geometry->embree() || !impl.geometry->scene()) {
+    return fail("receivers: this engine was built for points, without primary visibility");
+  }
+  PixelReceivers out;
+  impl.arena->execute(
+      [&] { out = exao::pixel_receivers(*impl.geometry->embree(), *impl.geometry->scene(), camera, width, height); });
+  return out;
+}
+
+Result<MaskSet> Engine::pixel_masks(const PixelReceivers& pixels, const Camera& camera, const RunOptions& run) const {
+  const Impl& impl = *impl_;
+  if (auto ok = check_serves(impl.options, Receivers::Pixels); !ok) return std::unexpected(ok.error());
+  if (impl.options.method != Method::Raster) return masks(pixels.receivers, run);
+  raster::RasterOptions options = impl.options.raster;
+  options.stats = run.stats != nullptr;
+  raster::RasterResult result;
+  impl.arena->execute([&] {
+    result = raster::occlusion(pixels, *impl.geometry->scene(), *impl.geometry->triangles(), *impl.masks, camera, options,
+                               run.progress);
+  });
+  if (run.stats) run.stats->raster += result.stats;
+  return std::move(result.masks);
+}
+
+Result<PixelResult> Engine::render(const Camera& camera, int width, int height, const RunOptions& run) const {
+  const Impl& impl = *impl_;
+  if (auto ok = check_serves(impl.options, Receivers::Pixels); !ok) return std::unexpected(ok.error());
+  PixelResult out;
+  if (impl.options.method == Method::Raster) {
+    // Its own G-buffer: primary visibility by the same rasteriser that draws the volumes.
+    impl.arena->execute([&] { out.pixels = raster::raster_pixel_receivers(*impl.geometry->scene(), camera, width, height); });
+  } else {
+    Result<PixelReceivers> pixels = pixel_receivers(camera, width, height);
+    if (!pixels) return std::unexpected(pixels.error());
+    out.pixels = std::move(*pixels);
+  }
+  Result<MaskSet> masks = pixel_masks(out.pixels, camera, run);
+  if (!masks) return std::unexpected(masks.error());
+  out.masks = std::move(*masks);
+  return out;
+}
+
+}  // namespace exao::engine

@@ -1,0 +1,130 @@
+#pragma once
+// exao::engine::Engine: the one AO engine behind `exao render`, `bake`, `query`, `bench` and the
+// public API (exao::api::Engine). It takes a scene (or a Geometry prepared from one), one Options
+// and a batch of receivers (or a camera, for pixel receivers), and returns AO, blocked-ray counts
+// or masks. It owns what every caller used to do for itself:
+//  - checking the options and what the method can serve (engine/capabilities.h);
+//  - the rays (pattern, radius, offset, resolved against the scene once) and the mask engine;
+//  - the order receivers are visited in (engine/morton.h) and batching: a batch is cut into
+//    chunks of kChunk receivers, so no call holds more than one chunk's masks;
+//  - threads: everything runs in the engine's own TBB arena of options.threads;
+//  - the progress callback (over the whole batch) and the work counters;
+//  - the AO formula (core/mask_set.h: ao_from_blocked).
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "bvh/traverse.h"
+#include "core/camera.h"
+#include "core/error.h"
+#include "core/mask_set.h"
+#include "core/pixel_receivers.h"
+#include "core/progress.h"
+#include "core/receiver_frame.h"
+#include "core/scene.h"
+#include "core/shadow_rays.h"
+#include "engine/capabilities.h"
+#include "engine/geometry.h"
+#include "engine/options.h"
+#include "lut/mask_engine.h"
+#include "raster/stats.h"
+
+namespace exao::engine {
+
+/// Receivers per backend call within a batch: bounds the masks held at once (kChunk * N / 8
+/// bytes, 8 MiB at N = 1024) while leaving every call hundreds of tasks for the threads.
+inline constexpr std::size_t kChunk = std::size_t{1} << 16;
+
+/// Work counters a backend reports: per receiver for bvh, per culling stage for raster.
+struct Stats {
+  bvh::TraversalStats traversal;
+  raster::RasterStats raster;
+};
+
+/// Per-call settings.
+struct RunOptions {
+  /// (done, total) receivers of the whole call, from worker threads.
+  ProgressCallback progress;
+  /// When not null, the backend's counters are added to *stats (raster counts are slower).
+  Stats* stats = nullptr;
+  /// Overrides options.embree.rays for this call (exao bench times several).
+  std::optional<EmbreeRays> embree_rays;
+};
+
+/// Where a batch's results go: any of these may be empty; a non-empty one holds one entry per
+/// receiver (masks: mask_words() words per receiver), in the caller's order.
+struct Outputs {
+  std::span<float> ao;                // 1 - blocked / N
+  std::span<std::uint32_t> blocked;   // blocked rays, in [0, N]
+  std::span<std::uint64_t> masks;     // bit i of receiver r: masks[r * mask_words() + i / 64] >> (i % 64)
+};
+
+/// Pixel receivers of a camera image and their masks, in pixel order.
+struct PixelResult {
+  PixelReceivers pixels;
+  MaskSet masks;
+};
+
+class Engine {
+ public:
+  Engine(Engine&&) noexcept;
+  Engine& operator=(Engine&&) noexcept;
+  ~Engine();
+
+  /// Checks the options (check_options, then check_serves for `receivers`), prepares the
+  /// scene's geometry and builds the rays and the mask engine. The scene need not outlive the
+  /// engine. Errors name the option (engine/options.h) or the scene.
+  [[nodiscard]] static Result<Engine> build(const Scene& scene, const Options& options, Receivers receivers);
+  /// The same over a Geometry already prepared for options.method (Geometry::serves); the
+  /// options' sidedness and bvh settings are the geometry's.
+  [[nodiscard]] static Result<Engine> build(std::shared_ptr<const Geometry> geometry, const Options& options,
+                                            Receivers receivers);
+
+  [[nodiscard]] const Options& options() const;
+  [[nodiscard]] Method method() const { return options().method; }
+  [[nodiscard]] const ShadowRays& rays() const;
+  [[nodiscard]] int samples() const { return rays().count(); }
+  [[nodiscard]] std::size_t mask_words() const { return static_cast<std::size_t>(samples() + 63) / 64; }
+  [[nodiscard]] float radius() const { return rays().radius; }
+  [[nodiscard]] float origin_offset() const { return rays().origin_offset; }
+  /// The mask engine (nullptr for embree, which casts rays).
+  [[nodiscard]] const lut::MaskEngine* mask_engine() const;
+  [[nodiscard]] const Geometry& geometry() const;
+  /// Worker threads of the engine's arena.
+  [[nodiscard]] int threads() const;
+
+  /// AO, counts and/or masks of `receivers` (Receivers::Points). Every receiver must have a
+  /// finite position and a normal that can be normalised (the caller checks input). Fails
+  /// when an output's size does not match.
+  [[nodiscard]] Result<void> run(std::span<const Receiver> receivers, const Outputs& outputs,
+                                 const RunOptions& run = {}) const;
+  /// run() into a vector of AO values.
+  [[nodiscard]] Result<std::vector<float>> ao(std::span<const Receiver> receivers, const RunOptions& run = {}) const;
+  /// run() into a MaskSet.
+  [[nodiscard]] Result<MaskSet> masks(std::span<const Receiver> receivers, const RunOptions& run = {}) const;
+
+  /// The mask of one receiver into words (mask_words() of them), on the calling thread with no
+  /// allocation for bvh and brute: for renderers asking one shading point at a time.
+  void mask_one(const Receiver& receiver, std::span<std::uint64_t> words) const;
+
+  /// The pixels of a width x height image of `camera` (1 to 16384 each) and their masks: the
+  /// raster backend's own G-buffer receivers, or Embree's primary visibility for the others.
+  [[nodiscard]] Result<PixelResult> render(const Camera& camera, int width, int height, const RunOptions& run = {}) const;
+  /// Masks of pixel receivers the caller already has (of this camera and image size), by any
+  /// method: exao bench runs every method on Embree's pixels.
+  [[nodiscard]] Result<MaskSet> pixel_masks(const PixelReceivers& pixels, const Camera& camera,
+                                            const RunOptions& run = {}) const;
+  /// Embree's primary visibility (needs a Geometry built with embree).
+  [[nodiscard]] Result<PixelReceivers> pixel_receivers(const Camera& camera, int width, int height) const;
+
+  struct Impl;
+
+ private:
+  explicit Engine(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace exao::engine

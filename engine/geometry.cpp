@@ -1,0 +1,78 @@
+#include "engine/geometry.h"
+
+#include <algorithm>
+
+#include <tbb/task_arena.h>
+
+namespace exao::engine {
+namespace {
+
+bool uses(std::span<const Method> methods, Method method) {
+  return std::find(methods.begin(), methods.end(), method) != methods.end();
+}
+
+}  // namespace
+
+bool Geometry::serves(Method method) const {
+  switch (method) {
+    case Method::Embree: return embree_ != nullptr;
+    case Method::Brute: return triangles_ != nullptr;
+    case Method::Bvh: return bvh_ != nullptr;
+    case Method::Raster: return triangles_ != nullptr && scene_.has_value();
+  }
+  return false;
+}
+
+Result<std::shared_ptr<const Geometry>> Geometry::build(const Scene& scene, std::span<const Method> methods,
+                                                         const GeometryOptions& options) {
+  if (auto ok = bvh::check_options(options.bvh); !ok) return std::unexpected(ok.error());
+  if (scene.triangle_count() == 0) return fail(scene.name + ": the scene has no triangle of non-zero area");
+  auto geometry = std::make_shared<Geometry>();
+  const bool raster = uses(methods, Method::Raster);
+  const bool keep_scene = raster || options.embree;
+  // The backends see the scene with the sidedness applied; a copy only when it changes or must
+  // be kept (raster draws it, pixel receivers read its triangles' normals).
+  const Scene* source = &scene;
+  if (options.sidedness != Sidedness::Auto || keep_scene) {
+    geometry->scene_ = scene;
+    apply_sidedness(*geometry->scene_, options.sidedness);
+    source = &*geometry->scene_;
+  }
+  geometry->bounds_ = source->bounds();
+  geometry->triangle_count_ = source->triangle_count();
+  geometry->two_sided_count_ = exao::two_sided_count(*source);
+  geometry->sidedness_ = options.sidedness;
+  geometry->bvh_options_ = options.bvh;
+
+  tbb::task_arena arena(options.threads > 0 ? options.threads : static_cast<int>(tbb::task_arena::automatic));
+  Result<void> built;
+  arena.execute([&] {
+    if (options.embree || uses(methods, Method::Embree)) {
+      Result<EmbreeScene> embree = EmbreeScene::build(*source);
+      if (!embree) {
+        built = std::unexpected(embree.error());
+        return;
+      }
+      geometry->embree_ = std::make_unique<EmbreeScene>(std::move(*embree));
+    }
+    const bool brute = uses(methods, Method::Brute);
+    const bool bvh = uses(methods, Method::Bvh);
+    if (!(brute || bvh || raster)) return;
+    auto triangles = std::make_unique<lut::TriangleSet>(lut::TriangleSet::build(*source));
+    if (bvh) {
+      Result<bvh::Bvh> tree = bvh::Bvh::build(*triangles, options.bvh);
+      if (!tree) {
+        built = std::unexpected(tree.error());
+        return;
+      }
+      geometry->bvh_ = std::make_unique<bvh::Bvh>(std::move(*tree));
+    }
+    // The BVH keeps its own copy in leaf order; the scene-order set only for brute and raster.
+    if (brute || raster) geometry->triangles_ = std::move(triangles);
+  });
+  if (!built) return std::unexpected(built.error());
+  if (!keep_scene) geometry->scene_.reset();
+  return std::shared_ptr<const Geometry>(std::move(geometry));
+}
+
+}  // namespace exao::engine

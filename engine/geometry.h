@@ -1,0 +1,60 @@
+#pragma once
+// exao::engine::Geometry: a scene prepared once for the backends that will use it: the Embree
+// scene (the reference, and primary visibility for pixel receivers), the triangle set every mask
+// reads, the BVH, and a copy of the scene for raster. Independent of the rays, so one Geometry
+// serves engines of many sample counts, radii and mask modes (exao bench).
+
+#include <memory>
+#include <optional>
+#include <span>
+
+#include "bvh/bvh.h"
+#include "core/embree_reference.h"
+#include "core/error.h"
+#include "core/scene.h"
+#include "engine/options.h"
+#include "lut/triangle_set.h"
+
+namespace exao::engine {
+
+struct GeometryOptions {
+  Sidedness sidedness = Sidedness::Auto;  // applied to the copy the backends see
+  bvh::BvhOptions bvh;
+  /// Build the Embree scene even when no method casts rays, for pixel receivers and previews.
+  bool embree = false;
+  int threads = 0;  // 0: one per core
+};
+
+class Geometry {
+ public:
+  /// Prepares `scene` for every method in `methods`. Fails on an empty scene or an Embree error.
+  [[nodiscard]] static Result<std::shared_ptr<const Geometry>> build(const Scene& scene, std::span<const Method> methods,
+                                                                      const GeometryOptions& options);
+
+  /// nullptr when not built (no method needed it and options.embree was false).
+  [[nodiscard]] const EmbreeScene* embree() const { return embree_.get(); }
+  [[nodiscard]] const lut::TriangleSet* triangles() const { return triangles_.get(); }
+  [[nodiscard]] const bvh::Bvh* bvh() const { return bvh_.get(); }
+  /// The scene as the backends see it (sidedness applied); kept only for raster and pixels.
+  [[nodiscard]] const Scene* scene() const { return scene_ ? &*scene_ : nullptr; }
+  [[nodiscard]] const Bounds& bounds() const { return bounds_; }
+  [[nodiscard]] std::size_t triangle_count() const { return triangle_count_; }
+  [[nodiscard]] std::size_t two_sided_count() const { return two_sided_count_; }
+  [[nodiscard]] Sidedness sidedness() const { return sidedness_; }
+  [[nodiscard]] const bvh::BvhOptions& bvh_options() const { return bvh_options_; }
+  /// Whether this geometry has what `method` needs.
+  [[nodiscard]] bool serves(Method method) const;
+
+ private:
+  std::unique_ptr<EmbreeScene> embree_;
+  std::unique_ptr<lut::TriangleSet> triangles_;
+  std::unique_ptr<bvh::Bvh> bvh_;
+  std::optional<Scene> scene_;
+  Bounds bounds_;
+  std::size_t triangle_count_ = 0;
+  std::size_t two_sided_count_ = 0;
+  Sidedness sidedness_ = Sidedness::Auto;
+  bvh::BvhOptions bvh_options_;
+};
+
+}  // namespace exao::engine

@@ -1,0 +1,76 @@
+#include "engine/options.h"
+
+#include <array>
+#include <cmath>
+
+#include "lut/plane_table.h"
+
+namespace exao::engine {
+namespace {
+
+constexpr std::array kMethods{Method::Embree, Method::Brute, Method::Bvh, Method::Raster};
+
+// Every field of Options, as errors name them.
+constexpr std::array<std::string_view, 17> kOptionNames{
+    "radius",       "samples",      "falloff",     "pattern_seed",  "origin_offset", "sidedness",
+    "method",       "masks",        "threads",     "table_resolution", "bvh.branching", "bvh.max_leaf_size",
+    "raster.alpha", "raster.stats", "embree.rays", "embree.across_receivers", "embree.coherent"};
+
+template <class Enum>
+bool in_range(Enum value, Enum last) {
+  const int v = static_cast<int>(value);
+  return v >= 0 && v <= static_cast<int>(last);
+}
+
+std::string number(int value) { return std::to_string(value); }
+
+}  // namespace
+
+const char* method_name(Method method) {
+  switch (method) {
+    case Method::Embree: return "embree";
+    case Method::Brute: return "brute";
+    case Method::Bvh: return "bvh";
+    case Method::Raster: return "raster";
+  }
+  return "?";
+}
+
+Result<Method> parse_method(const std::string& name) {
+  for (const Method m : kMethods) {
+    if (name == method_name(m)) return m;
+  }
+  return fail("method: unknown method '" + name + "' (embree, brute, bvh or raster)");
+}
+
+Result<void> check_options(const Options& o) {
+  if (auto ok = check_sample_count(o.samples); !ok) return ok;
+  if (!in_range(o.falloff, Falloff::Quadratic)) return fail("falloff: not a falloff, got " + number(static_cast<int>(o.falloff)));
+  if (!in_range(o.sidedness, Sidedness::Two)) return fail("sidedness: not a sidedness, got " + number(static_cast<int>(o.sidedness)));
+  if (!in_range(o.method, Method::Raster)) return fail("method: not a method, got " + number(static_cast<int>(o.method)));
+  if (!in_range(o.masks, lut::MaskMode::Exact)) return fail("masks: not a mask mode, got " + number(static_cast<int>(o.masks)));
+  if (!in_range(o.embree.rays, EmbreeRays::Packet16)) {
+    return fail("embree.rays: not an Embree ray mode, got " + number(static_cast<int>(o.embree.rays)));
+  }
+  if (o.threads < 0) return fail("threads: must be >= 0 (0: one per core), got " + number(o.threads));
+  if (o.table_resolution != 0) {
+    if (auto ok = lut::check_table_resolution(o.table_resolution); !ok) return ok;
+  }
+  if (auto ok = bvh::check_options(o.bvh); !ok) return ok;
+  if (!(std::isfinite(o.raster.alpha) && o.raster.alpha > 0.0f)) {
+    return fail("raster.alpha: must be a finite number > 0, got " + std::to_string(o.raster.alpha));
+  }
+  return {};
+}
+
+std::optional<std::string_view> option_of(std::string_view message) {
+  const std::size_t colon = message.find(':');
+  if (colon == std::string_view::npos) return std::nullopt;
+  const std::string_view head = message.substr(0, colon);
+  for (const std::string_view name : kOptionNames) {
+    if (head == name) return name;
+  }
+  return std::nullopt;
+}
+
+}  // namespace exao::engine

@@ -1,0 +1,80 @@
+#pragma once
+// exao::engine::Options: every setting of an AO computation, one struct for the exao program
+// (render, bake, query, bench) and the public API alike, with its defaults written here once.
+//
+// Errors about an option name it as the field is named here ("samples", "radius", "bvh.branching")
+// followed by a colon, and give the value: "samples: must be a multiple of 32 from 32 to 1024,
+// got 100". The exao program turns the name into its flag (cli/option_flags.cpp), the public API
+// into "options.<name>"; no library error names a command-line flag.
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "bvh/bvh.h"
+#include "core/embree_reference.h"
+#include "core/error.h"
+#include "core/sample_pattern.h"
+#include "core/scene.h"
+#include "lut/mask_engine.h"
+#include "raster/occlusion.h"
+
+namespace exao::engine {
+
+/// The backends of DESIGN.md section 5.
+enum class Method { Embree, Brute, Bvh, Raster };
+
+[[nodiscard]] const char* method_name(Method method);
+/// "embree", "brute", "bvh" or "raster"; the error names the option "method".
+[[nodiscard]] Result<Method> parse_method(const std::string& name);
+
+/// A length in world units, or a percentage of the scene's bounding-box diagonal.
+struct Length {
+  float value = 0.0f;
+  bool percent_of_diagonal = false;
+
+  /// World units for a scene of this bounding-box diagonal.
+  [[nodiscard]] float resolve(float diagonal) const { return percent_of_diagonal ? value * 0.01f * diagonal : value; }
+};
+
+/// 5% of the diagonal shows contact shadows and creases without darkening whole rooms.
+inline constexpr Length kDefaultRadius{5.0f, true};
+
+struct Options {
+  /// r: the longest shadow ray, finite and > 0. Default: 5% of the scene's bounding-box diagonal.
+  Length radius = kDefaultRadius;
+  /// N: rays per receiver, a multiple of 32 from 32 to 1024 (core/sample_pattern.h).
+  int samples = 128;
+  Falloff falloff = Falloff::Constant;
+  std::uint64_t pattern_seed = kDefaultPatternSeed;
+  /// eps: rays start at p + eps n, world units, finite and >= 0. nullopt: 1e-4 of the diagonal
+  /// (kDefaultOffsetFraction, core/shadow_rays.h).
+  std::optional<float> origin_offset;
+  /// Auto: as the scene says (glTF doubleSided; other formats two-sided); One or Two overrides.
+  Sidedness sidedness = Sidedness::Auto;
+  Method method = Method::Bvh;
+  /// Where plane masks come from (brute, bvh, raster); embree casts rays and ignores it.
+  lut::MaskMode masks = lut::MaskMode::Lut;
+  /// Worker threads, >= 0; 0: one per core. The engine runs everything in a TBB arena of this size.
+  int threads = 0;
+  /// Plane table cells per side (masks = lut): 0 for the default for N, else lut::kMinTableResolution
+  /// to lut::kMaxTableResolution.
+  int table_resolution = 0;
+  bvh::BvhOptions bvh;
+  raster::RasterOptions raster;
+  /// How Embree is asked (method embree, and the reference in comparisons).
+  EmbreeOptions embree;
+};
+
+/// Checks every field that does not depend on the scene (the radius and offset are checked once
+/// resolved, by make_shadow_rays); the error names the first bad field and its value. The one
+/// place each rule lives: the sample count in check_sample_count, the table resolution in
+/// lut::check_table_resolution, the others here.
+[[nodiscard]] Result<void> check_options(const Options& options);
+
+/// The option an error message is about: the leading "name:" when name is an option of this
+/// struct ("samples", "bvh.branching", ...), else nullopt. For boundaries that rename options.
+[[nodiscard]] std::optional<std::string_view> option_of(std::string_view message);
+
+}  // namespace exao::engine
