@@ -210,7 +210,7 @@ Result<EmbreeRays> parse_embree_rays(const std::string& name) {
   for (const EmbreeRays r : {EmbreeRays::Single, EmbreeRays::Packet4, EmbreeRays::Packet8, EmbreeRays::Packet16}) {
     if (name == embree_rays_name(r)) return r;
   }
-  return fail("--embree-rays: unknown mode '" + name + "' (single, packet4, packet8 or packet16)");
+  return fail("embree.rays: unknown mode '" + name + "' (single, packet4, packet8 or packet16)");
 }
 
 EmbreeScene::EmbreeScene(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}

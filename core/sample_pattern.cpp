@@ -193,12 +193,12 @@ Result<Falloff> parse_falloff(const std::string& name) {
   for (const Falloff f : {Falloff::Constant, Falloff::Linear, Falloff::Quadratic}) {
     if (name == falloff_name(f)) return f;
   }
-  return fail("--falloff: unknown falloff '" + name + "' (constant, linear or quadratic)");
+  return fail("falloff: unknown falloff '" + name + "' (constant, linear or quadratic)");
 }
 
 Result<void> check_sample_count(int count) {
   if (count < kMinSamples || count > kMaxSamples || count % 32 != 0) {
-    return fail("--samples: " + std::to_string(count) + " is not a multiple of 32 from 32 to 1024");
+    return fail("samples: must be a multiple of 32 from 32 to 1024, got " + std::to_string(count));
   }
   return {};
 }

@@ -27,10 +27,10 @@ struct ShadowRays {
 [[nodiscard]] inline Result<ShadowRays> make_shadow_rays(SamplePattern pattern, float radius,
                                                          float origin_offset) {
   if (!(std::isfinite(radius) && radius > 0.0f)) {
-    return fail("--radius: must be a positive length, got " + std::to_string(radius));
+    return fail("radius: must be a finite length > 0, got " + std::to_string(radius));
   }
   if (!(std::isfinite(origin_offset) && origin_offset >= 0.0f)) {
-    return fail("--offset: must be a length >= 0, got " + std::to_string(origin_offset));
+    return fail("origin_offset: must be a finite length >= 0, got " + std::to_string(origin_offset));
   }
   return ShadowRays{std::move(pattern), radius, origin_offset};
 }

@@ -18,12 +18,12 @@ Result<MaskMode> parse_mask_mode(const std::string& name) {
   for (const MaskMode m : {MaskMode::Lut, MaskMode::Exact}) {
     if (name == mask_mode_name(m)) return m;
   }
-  return fail("--masks: unknown mask mode '" + name + "' (lut or exact)");
+  return fail("masks: unknown mask mode '" + name + "' (lut or exact)");
 }
 
 Result<MaskEngine> MaskEngine::build(const ShadowRays& rays, MaskMode mode, int resolution) {
   if (auto ok = check_sample_count(rays.count()); !ok) return std::unexpected(ok.error());
-  if (!(std::isfinite(rays.radius) && rays.radius > 0.0f)) return fail("--radius: must be a positive length");
+  if (!(std::isfinite(rays.radius) && rays.radius > 0.0f)) return fail("radius: must be a finite length > 0, got " + std::to_string(rays.radius));
   MaskEngine engine;
   engine.rays_ = rays;
   engine.mode_ = mode;

@@ -44,7 +44,7 @@ namespace exao::lut {
 enum class MaskMode { Lut, Exact };
 
 [[nodiscard]] const char* mask_mode_name(MaskMode mode);
-/// "lut" or "exact"; the error names the option --masks.
+/// "lut" or "exact"; the error names the option "masks".
 [[nodiscard]] Result<MaskMode> parse_mask_mode(const std::string& name);
 
 /// Margins of region masks: the sphere is grown by margin * |centre| (lut/sphere_test.h).

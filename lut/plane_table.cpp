@@ -114,8 +114,8 @@ const char* table_kind_name(TableKind kind) {
 
 Result<void> check_table_resolution(int resolution) {
   if (resolution < kMinTableResolution || resolution > kMaxTableResolution) {
-    return fail("--lut-resolution: " + std::to_string(resolution) + " is not in [" +
-                std::to_string(kMinTableResolution) + ", " + std::to_string(kMaxTableResolution) + "]");
+    return fail("table_resolution: must be from " + std::to_string(kMinTableResolution) + " to " +
+                std::to_string(kMaxTableResolution) + " (0: the default for N), got " + std::to_string(resolution));
   }
   return {};
 }
