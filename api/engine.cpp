@@ -1,47 +1,28 @@
-// exao::api::Engine: the public AO engine over the internal modules (core, lut, bvh).
-//
-// Build: the caller's meshes become one exao::Scene (the only full copy), which the chosen
-// backend turns into its own structure (a BVH, a triangle set or an Embree scene); the Scene is
-// then dropped. Queries: one receiver on the calling thread, or a batch on the engine's own TBB
-// arena. The rays are those of the exao program for the same scene and options, so the bits are
-// the same as `exao query`'s (tests/api_cpp_test.cpp checks it).
+// exao::api::Engine: the public AO engine, a thin boundary over the library's one engine
+// (engine/engine.h, which every exao command uses too): it checks the caller's arrays and
+// receivers, turns the public types into the library's, names options as the public Options
+// does, and maps errors to status codes. The rays are those of the exao program for the same
+// scene and options, so the bits are the same as `exao query`'s (tests/api_cpp_test.cpp).
 
 #include <algorithm>
+#include <array>
 #include <cfloat>
 #include <cmath>
 #include <cstring>
-#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
-#include <tbb/blocked_range.h>
-#include <tbb/combinable.h>
-#include <tbb/parallel_for.h>
-#include <tbb/parallel_sort.h>
-#include <tbb/task_arena.h>
-
 #include "api/boundary.h"
-#include "bvh/bvh.h"
-#include "bvh/traverse.h"
-#include "core/bounds.h"
-#include "core/embree_reference.h"
 #include "core/load_scene.h"
 #include "core/mask.h"
-#include "core/mask_set.h"
-#include "core/progress.h"
 #include "core/receiver_frame.h"
-#include "core/sample_pattern.h"
 #include "core/scene.h"
-#include "core/shadow_rays.h"
+#include "engine/engine.h"
 #include "exao/exao.hpp"
-#include "lut/brute.h"
-#include "lut/float_mode.h"
-#include "lut/mask_engine.h"
-#include "lut/plane_table.h"
-#include "lut/triangle_set.h"
 
 namespace exao::api {
 
@@ -49,14 +30,8 @@ using detail::guard;
 using detail::invalid;
 
 struct Engine::Impl {
+  engine::Engine engine;
   EngineInfo info;
-  ShadowRays rays;
-  std::optional<lut::MaskEngine> masks;            // bvh, brute
-  std::unique_ptr<bvh::Bvh> bvh;                   // bvh
-  std::unique_ptr<lut::TriangleSet> triangles;     // brute
-  std::unique_ptr<EmbreeScene> embree;             // embree
-  std::unique_ptr<tbb::task_arena> arena;          // batch queries and the build
-  api::EmbreeRays embree_rays = api::EmbreeRays::Packet16;  // default of embree batches
 };
 
 namespace {
@@ -67,36 +42,60 @@ const EngineInfo kEmptyInfo{};
 
 // --- Options ------------------------------------------------------------------------------------
 
-template <class Enum>
-[[nodiscard]] bool in_range(Enum value, Enum last) {
-  const int v = static_cast<int>(value);
-  return v >= 0 && v <= static_cast<int>(last);
+// The library's option names (engine/options.h) as the public Options names them.
+constexpr std::array<std::pair<std::string_view, std::string_view>, 12> kOptionNames{{
+    {"radius", "radius"},
+    {"samples", "samples"},
+    {"falloff", "falloff"},
+    {"pattern_seed", "pattern_seed"},
+    {"origin_offset", "origin_offset"},
+    {"sidedness", "sidedness"},
+    {"method", "backend"},
+    {"masks", "mask_mode"},
+    {"threads", "threads"},
+    {"table_resolution", "table_resolution"},
+    {"bvh.branching", "bvh_branching"},
+    {"embree.rays", "embree_rays"},
+}};
+
+// An error of the library engine: "options.<public name>: ..." when it is about an option
+// (InvalidArgument), else `code` with the message as it is.
+[[nodiscard]] Error from_engine(const exao::Error& error, StatusCode code) {
+  if (const std::optional<std::string_view> option = engine::option_of(error.message)) {
+    std::string_view name = *option;
+    for (const auto& [internal, public_name] : kOptionNames) {
+      if (internal == *option) name = public_name;
+    }
+    return invalid("options." + std::string(name) + error.message.substr(option->size()));
+  }
+  return detail::make_error(code, error.message);
 }
 
-[[nodiscard]] std::optional<Error> check_options(const Options& o) {
-  if (o.radius && !(std::isfinite(*o.radius) && *o.radius > 0.0f)) {
-    return invalid("options.radius: must be a finite length > 0, got " + std::to_string(*o.radius));
-  }
-  if (o.samples < kMinSamples || o.samples > kMaxSamples || o.samples % 32 != 0) {
-    return invalid("options.samples: must be a multiple of 32 from 32 to 1024, got " + std::to_string(o.samples));
-  }
-  if (!in_range(o.falloff, Falloff::Quadratic)) return invalid("options.falloff: not a Falloff value");
-  if (!in_range(o.sidedness, Sidedness::Two)) return invalid("options.sidedness: not a Sidedness value");
-  if (!in_range(o.mask_mode, MaskMode::Exact)) return invalid("options.mask_mode: not a MaskMode value");
-  if (!in_range(o.backend, Backend::Embree)) return invalid("options.backend: not a Backend value");
-  if (!in_range(o.embree_rays, EmbreeRays::Packet16)) return invalid("options.embree_rays: not an EmbreeRays value");
-  if (o.origin_offset && !(std::isfinite(*o.origin_offset) && *o.origin_offset >= 0.0f)) {
-    return invalid("options.origin_offset: must be a finite length >= 0, got " + std::to_string(*o.origin_offset));
-  }
-  if (o.threads < 0) return invalid("options.threads: must be >= 0 (0: one per core), got " + std::to_string(o.threads));
-  if (o.table_resolution != 0 &&
-      (o.table_resolution < lut::kMinTableResolution || o.table_resolution > lut::kMaxTableResolution)) {
-    return invalid("options.table_resolution: must be 0 or from " + std::to_string(lut::kMinTableResolution) + " to " +
-                   std::to_string(lut::kMaxTableResolution) + ", got " + std::to_string(o.table_resolution));
-  }
-  if (o.bvh_branching != 2 && o.bvh_branching != 4) {
-    return invalid("options.bvh_branching: must be 2 or 4, got " + std::to_string(o.bvh_branching));
-  }
+[[nodiscard]] engine::Options to_engine(const Options& o) {
+  engine::Options out;
+  if (o.radius) out.radius = engine::Length{*o.radius, false};
+  out.samples = o.samples;
+  out.falloff = static_cast<exao::Falloff>(static_cast<int>(o.falloff));
+  out.pattern_seed = o.pattern_seed;
+  out.origin_offset = o.origin_offset;
+  out.sidedness = static_cast<exao::Sidedness>(static_cast<int>(o.sidedness));
+  out.method = o.backend == Backend::Bvh      ? engine::Method::Bvh
+               : o.backend == Backend::Brute  ? engine::Method::Brute
+               : o.backend == Backend::Embree ? engine::Method::Embree
+               : o.backend == Backend::Raster ? engine::Method::Raster
+                                              : static_cast<engine::Method>(-1);  // refused by check_options
+  out.masks = static_cast<lut::MaskMode>(static_cast<int>(o.mask_mode));
+  out.threads = o.threads;
+  out.table_resolution = o.table_resolution;
+  out.bvh.branching = o.bvh_branching;
+  out.embree.rays = static_cast<exao::EmbreeRays>(static_cast<int>(o.embree_rays));
+  return out;
+}
+
+[[nodiscard]] std::optional<Error> check_options(const Options& options) {
+  const engine::Options o = to_engine(options);
+  if (auto ok = engine::check_options(o); !ok) return from_engine(ok.error(), StatusCode::InvalidArgument);
+  if (auto ok = engine::check_serves(o, engine::Receivers::Points); !ok) return from_engine(ok.error(), StatusCode::InvalidArgument);
   return std::nullopt;
 }
 
@@ -188,232 +187,61 @@ template <class Enum>
   return {glm::vec3(r.position.x, r.position.y, r.position.z), glm::vec3(r.normal.x, r.normal.y, r.normal.z), r.key};
 }
 
-// Spreads the low 21 bits of x to every third bit (a Morton code's one axis).
-[[nodiscard]] std::uint64_t spread_bits(std::uint64_t x) {
-  x &= 0x1FFFFF;
-  x = (x | x << 32) & 0x1F00000000FFFFull;
-  x = (x | x << 16) & 0x1F0000FF0000FFull;
-  x = (x | x << 8) & 0x100F00F00F00F00Full;
-  x = (x | x << 4) & 0x10C30C30C30C30C3ull;
-  x = (x | x << 2) & 0x1249249249249249ull;
-  return x;
-}
-
-// Receivers in Morton order of their positions: neighbours traverse alike, so caches stay warm.
-[[nodiscard]] std::vector<std::uint32_t> morton_order(std::span<const exao::Receiver> receivers) {
-  Bounds bounds;
-  for (const exao::Receiver& r : receivers) bounds.extend(r.position);
-  const glm::vec3 scale = glm::vec3(2097151.0f) / glm::max(bounds.extent(), glm::vec3(1e-30f));
-  const auto cell = [](float q) -> std::uint64_t {
-    return q >= 0.0f ? static_cast<std::uint64_t>(std::min(q, 2097151.0f)) : 0;  // NaN (inf * 0) -> 0
-  };
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(receivers.size());
-  for (std::size_t i = 0; i < receivers.size(); ++i) {
-    const glm::vec3 q = (receivers[i].position - bounds.lo) * scale;
-    keyed[i] = {spread_bits(cell(q.x)) | spread_bits(cell(q.y)) << 1 | spread_bits(cell(q.z)) << 2, static_cast<std::uint32_t>(i)};
-  }
-  tbb::parallel_sort(keyed.begin(), keyed.end());
-  std::vector<std::uint32_t> order(receivers.size());
-  for (std::size_t i = 0; i < keyed.size(); ++i) order[i] = keyed[i].second;
-  return order;
-}
-
-[[nodiscard]] exao::EmbreeRays to_internal_rays(api::EmbreeRays rays) {
-  switch (rays) {
-    case api::EmbreeRays::Single: return exao::EmbreeRays::Single;
-    case api::EmbreeRays::Packet4: return exao::EmbreeRays::Packet4;
-    case api::EmbreeRays::Packet8: return exao::EmbreeRays::Packet8;
-    case api::EmbreeRays::Packet16: return exao::EmbreeRays::Packet16;
-  }
-  return exao::EmbreeRays::Packet16;
-}
-
-[[nodiscard]] exao::Falloff to_internal(api::Falloff falloff) {
-  switch (falloff) {
-    case api::Falloff::Constant: return exao::Falloff::Constant;
-    case api::Falloff::Linear: return exao::Falloff::Linear;
-    case api::Falloff::Quadratic: return exao::Falloff::Quadratic;
-  }
-  return exao::Falloff::Constant;
-}
-
 // --- Build --------------------------------------------------------------------------------------
 
-[[nodiscard]] Result<std::unique_ptr<Engine::Impl>> build_impl(Scene& scene, const Options& options,
+[[nodiscard]] Result<std::unique_ptr<Engine::Impl>> build_impl(const Scene& scene, const Options& options,
                                                                 std::size_t zero_area_skipped) {
   if (scene.triangle_count() == 0) return invalid("the scene has no triangle of non-zero area");
-  if (options.sidedness != Sidedness::Auto) {
-    apply_sidedness(scene, options.sidedness == Sidedness::One ? exao::Sidedness::One : exao::Sidedness::Two);
-  }
-  const Bounds bounds = scene.bounds();
-  const float diagonal = bounds.diagonal();
-  // The exao program's defaults, computed the same way ("5%" is parsed as 5 * 0.01 * diagonal),
-  // so that the same scene gives the same rays as `exao query`.
-  const float radius = options.radius.value_or(5.0f * 0.01f * diagonal);
-  const float offset = options.origin_offset.value_or(kDefaultOffsetFraction * diagonal);
-  if (!(std::isfinite(radius) && radius > 0.0f)) {
-    return invalid("options.radius: the default (5% of the diagonal) is not a positive length for this scene");
-  }
-  if (!std::isfinite(offset)) return invalid("options.origin_offset: the default (1e-4 of the diagonal) is not finite");
-
-  auto impl = std::make_unique<Engine::Impl>();
-  impl->arena = std::make_unique<tbb::task_arena>(options.threads > 0 ? options.threads : static_cast<int>(tbb::task_arena::automatic));
-  impl->arena->initialize();
-
-  std::optional<Error> failed;
-  impl->arena->execute([&] {
-    auto pattern = make_sample_pattern(options.samples, to_internal(options.falloff), options.pattern_seed);
-    if (!pattern) {
-      failed = invalid(pattern.error().message);
-      return;
-    }
-    auto rays = make_shadow_rays(std::move(*pattern), radius, offset);
-    if (!rays) {
-      failed = invalid(rays.error().message);
-      return;
-    }
-    impl->rays = std::move(*rays);
-    if (options.backend == Backend::Embree) {
-      auto embree = EmbreeScene::build(scene);
-      if (!embree) {
-        failed = detail::from_internal(StatusCode::BackendError, embree.error());
-        return;
-      }
-      impl->embree = std::make_unique<EmbreeScene>(std::move(*embree));
-      return;
-    }
-    const lut::MaskMode mode = options.mask_mode == MaskMode::Exact ? lut::MaskMode::Exact : lut::MaskMode::Lut;
-    auto masks = lut::MaskEngine::build(impl->rays, mode, options.table_resolution);
-    if (!masks) {
-      failed = invalid(masks.error().message);
-      return;
-    }
-    impl->masks = std::move(*masks);
-    auto triangles = std::make_unique<lut::TriangleSet>(lut::TriangleSet::build(scene));
-    if (options.backend == Backend::Brute) {
-      impl->triangles = std::move(triangles);
-      return;
-    }
-    bvh::BvhOptions bvh_options;
-    bvh_options.branching = options.bvh_branching;
-    auto built = bvh::Bvh::build(*triangles, bvh_options);
-    if (!built) {
-      failed = detail::from_internal(StatusCode::BackendError, built.error());
-      return;
-    }
-    impl->bvh = std::make_unique<bvh::Bvh>(std::move(*built));
-  });
-  if (failed) return std::move(*failed);
-
+  Result<engine::Engine> built = [&]() -> Result<engine::Engine> {
+    exao::Result<engine::Engine> e = engine::Engine::build(scene, to_engine(options), engine::Receivers::Points);
+    if (!e) return from_engine(e.error(), StatusCode::BackendError);
+    return std::move(*e);
+  }();
+  if (!built) return built.error();
+  auto impl = std::make_unique<Engine::Impl>(Engine::Impl{std::move(*built), {}});
+  const engine::Engine& e = impl->engine;
+  const Bounds& bounds = e.geometry().bounds();
   EngineInfo& info = impl->info;
   info.backend = options.backend;
   info.mask_mode = options.mask_mode;
   info.falloff = options.falloff;
-  info.samples = options.samples;
-  info.mask_words = static_cast<std::size_t>(options.samples + 63) / 64;
-  info.radius = radius;
-  info.origin_offset = offset;
-  info.threads = impl->arena->max_concurrency();
-  info.triangles = scene.triangle_count();
-  info.two_sided_triangles = two_sided_count(scene);
+  info.samples = e.samples();
+  info.mask_words = e.mask_words();
+  info.radius = e.radius();
+  info.origin_offset = e.origin_offset();
+  info.threads = e.threads();
+  info.triangles = e.geometry().triangle_count();
+  info.two_sided_triangles = e.geometry().two_sided_count();
   info.zero_area_skipped = zero_area_skipped;
   info.bounds_lo = {bounds.lo.x, bounds.lo.y, bounds.lo.z};
   info.bounds_hi = {bounds.hi.x, bounds.hi.y, bounds.hi.z};
-  info.table_resolution = impl->masks ? impl->masks->table_resolution() : 0;
-  info.table_bytes = impl->masks ? impl->masks->table_bytes() : 0;
+  info.table_resolution = e.mask_engine() ? e.mask_engine()->table_resolution() : 0;
+  info.table_bytes = e.mask_engine() ? e.mask_engine()->table_bytes() : 0;
   info.simd = simd_name();
-  impl->embree_rays = options.embree_rays;
   return impl;
 }
 
 // --- Queries ------------------------------------------------------------------------------------
 
-// The mask of one receiver into words[0, mask_words), on the calling thread.
-void single_mask(const Engine::Impl& impl, const exao::Receiver& receiver, std::uint64_t* words) {
-  const int n = impl.rays.count();
-  const std::size_t count = impl.info.mask_words;
-  if (impl.embree) {
-    // One receiver: single rays (packets across receivers would have one live lane).
-    EmbreeOptions embree_options;
-    embree_options.rays = exao::EmbreeRays::Single;
-    const MaskSet set = impl.embree->occlusion(impl.rays, std::span<const exao::Receiver>(&receiver, 1), embree_options);
-    std::copy_n(set.row(0).begin(), count, words);
-    return;
-  }
-  const Frame frame = impl.rays.frame(receiver);
-  with_mask_bits(n, [&](auto bits) {
-    constexpr int Bits = decltype(bits)::value;
-    const lut::FlushDenormals flush;  // the same float mode on every thread (lut/float_mode.h)
-    Mask<Bits> mask;
-    if (impl.bvh) {
-      mask = bvh::traverse<Bits, false>(*impl.bvh, *impl.masks, frame, nullptr);
-    } else {
-      const Mask<Bits> all = impl.masks->all_rays<Bits>();
-      for (std::uint32_t t = 0; t < impl.triangles->size(); ++t) {
-        mask |= impl.masks->triangle_mask<Bits>(*impl.triangles, t, frame);
-        if (mask == all) break;  // nothing left to block
-      }
-    }
-    std::copy_n(mask.words.begin(), count, words);
-  });
-}
-
 void fill_rays(const Engine::Impl& impl, const exao::Receiver& receiver, Vec3* origin, std::span<ShadowRay> rays) {
-  const Frame frame = impl.rays.frame(receiver);
+  const Frame frame = impl.engine.rays().frame(receiver);
   if (origin) *origin = {frame.origin.x, frame.origin.y, frame.origin.z};
-  const SamplePattern& pattern = impl.rays.pattern;
+  const SamplePattern& pattern = impl.engine.rays().pattern;
   for (std::size_t i = 0; i < rays.size(); ++i) {
     const glm::vec3 d = frame.to_world_direction(pattern.directions[i]);
-    rays[i] = {{d.x, d.y, d.z}, pattern.lengths[i] * impl.rays.radius};
+    rays[i] = {{d.x, d.y, d.z}, pattern.lengths[i] * impl.engine.rays().radius};
   }
 }
 
-[[nodiscard]] int popcount_words(const std::uint64_t* words, std::size_t count) {
+[[nodiscard]] int popcount_words(std::span<const std::uint64_t> words) {
   int n = 0;
-  for (std::size_t w = 0; w < count; ++w) n += std::popcount(words[w]);
+  for (const std::uint64_t w : words) n += std::popcount(w);
   return n;
 }
 
-// AO from a blocked count, the same float as MaskSet::ao (what `exao query` writes).
-[[nodiscard]] float ao_of(int blocked, int samples) {
-  return 1.0f - static_cast<float>(blocked) / static_cast<float>(samples);
-}
-
-// The bvh backend's batch: receivers in Morton order on the engine's arena, every chunk inside a
-// FlushDenormals like single queries, so a receiver's bits never depend on the thread.
-template <int Bits, bool Stats>
-void bvh_batch(const Engine::Impl& impl, std::span<const exao::Receiver> receivers, std::uint64_t* words, float* ao,
-               const BatchOptions& batch) {
-  const std::vector<std::uint32_t> order = morton_order(receivers);
-  const std::size_t count = impl.info.mask_words;
-  const int n = impl.rays.count();
-  ProgressCounter counter(batch.progress, receivers.size());
-  tbb::combinable<bvh::TraversalStats> local;
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 64), [&](const tbb::blocked_range<std::size_t>& range) {
-    const lut::FlushDenormals flush;
-    bvh::TraversalStats& mine = local.local();
-    for (std::size_t i = range.begin(); i < range.end(); ++i) {
-      const std::uint32_t r = order[i];
-      const Frame frame = impl.rays.frame(receivers[r]);
-      const Mask<Bits> mask = bvh::traverse<Bits, Stats>(*impl.bvh, *impl.masks, frame, &mine);
-      if (words) std::copy_n(mask.words.begin(), count, words + r * count);
-      if (ao) ao[r] = ao_of(mask.popcount(), n);
-    }
-    counter.add(range.size());
-  });
-  if constexpr (Stats) {
-    local.combine_each([&](const bvh::TraversalStats& s) {
-      batch.stats->receivers += s.receivers;
-      batch.stats->nodes_visited += s.nodes_visited;
-      batch.stats->triangles_tested += s.triangles_tested;
-      batch.stats->triangles_blocking += s.triangles_blocking;
-    });
-  }
-}
-
-// A batch into `words` (count * mask_words) and/or `ao` (count), either may be null.
-[[nodiscard]] Status run_batch(const Engine::Impl* impl, std::span<const Receiver> receivers, std::uint64_t* words,
-                               float* ao, const BatchOptions& batch) {
+// A batch into `words` (count * mask_words) and/or `ao` (count), either may be empty.
+[[nodiscard]] Status run_batch(const Engine::Impl* impl, std::span<const Receiver> receivers, std::span<std::uint64_t> words,
+                               std::span<float> ao, const BatchOptions& batch) {
   if (!impl) return invalid("engine: empty (moved from)");
   for (std::size_t i = 0; i < receivers.size(); ++i) {
     if (const char* problem = receiver_problem(receivers[i])) {
@@ -423,34 +251,21 @@ void bvh_batch(const Engine::Impl& impl, std::span<const exao::Receiver> receive
   if (receivers.empty()) return {};
   std::vector<exao::Receiver> internal(receivers.size());
   for (std::size_t i = 0; i < receivers.size(); ++i) internal[i] = to_internal(receivers[i]);
-
-  const std::size_t count = impl->info.mask_words;
-  const int n = impl->rays.count();
-  impl->arena->execute([&] {
-    if (impl->bvh) {
-      with_mask_bits(n, [&](auto bits) {
-        constexpr int Bits = decltype(bits)::value;
-        if (batch.stats) {
-          bvh_batch<Bits, true>(*impl, internal, words, ao, batch);
-        } else {
-          bvh_batch<Bits, false>(*impl, internal, words, ao, batch);
-        }
-      });
-      return;
-    }
-    MaskSet set;
-    if (impl->embree) {
-      EmbreeOptions embree_options;
-      embree_options.rays = to_internal_rays(batch.embree_rays.value_or(impl->embree_rays));
-      set = impl->embree->occlusion(impl->rays, internal, embree_options, batch.progress);
-    } else {
-      set = lut::brute_occlusion(*impl->masks, *impl->triangles, internal, batch.progress);
-    }
-    for (std::size_t i = 0; i < internal.size(); ++i) {
-      if (words) std::copy_n(set.row(i).begin(), count, words + i * count);
-      if (ao) ao[i] = set.ao(i);
-    }
-  });
+  engine::Stats stats;
+  engine::RunOptions run;
+  run.progress = batch.progress;
+  if (batch.stats) run.stats = &stats;
+  if (batch.embree_rays) run.embree_rays = static_cast<exao::EmbreeRays>(static_cast<int>(*batch.embree_rays));
+  engine::Outputs outputs;
+  outputs.ao = ao;
+  outputs.masks = words;
+  if (auto ok = impl->engine.run(internal, outputs, run); !ok) return from_engine(ok.error(), StatusCode::InternalError);
+  if (batch.stats) {
+    batch.stats->receivers += stats.traversal.receivers;
+    batch.stats->nodes_visited += stats.traversal.nodes_visited;
+    batch.stats->triangles_tested += stats.traversal.triangles_tested;
+    batch.stats->triangles_blocking += stats.traversal.triangles_blocking;
+  }
   return {};
 }
 
@@ -497,9 +312,10 @@ Result<float> Engine::ao(const Receiver& receiver) const noexcept {
   return guard<Result<float>>([&]() -> Result<float> {
     if (!impl_) return invalid("engine: empty (moved from)");
     if (const char* problem = receiver_problem(receiver)) return invalid(std::string("receiver: ") + problem);
-    std::uint64_t words[RayMask::kMaxSamples / 64] = {};
-    single_mask(*impl_, to_internal(receiver), words);
-    return ao_of(popcount_words(words, impl_->info.mask_words), impl_->info.samples);
+    std::array<std::uint64_t, RayMask::kMaxSamples / 64> words{};
+    const std::span<std::uint64_t> mask(words.data(), impl_->info.mask_words);
+    impl_->engine.mask_one(to_internal(receiver), mask);
+    return ao_from_blocked(popcount_words(mask), impl_->info.samples);
   });
 }
 
@@ -514,7 +330,7 @@ Result<RayMask> Engine::mask(const Receiver& receiver, std::span<ShadowRay> rays
     const exao::Receiver internal = to_internal(receiver);
     RayMask mask;
     mask.samples = impl_->info.samples;
-    single_mask(*impl_, internal, mask.words.data());
+    impl_->engine.mask_one(internal, std::span<std::uint64_t>(mask.words.data(), impl_->info.mask_words));
     if (!rays.empty()) fill_rays(*impl_, internal, nullptr, rays);
     return mask;
   });
@@ -540,7 +356,7 @@ Status Engine::ao(std::span<const Receiver> receivers, std::span<float> ao, cons
                      std::to_string(ao.size()));
     }
     if (!receivers.empty() && (!receivers.data() || !ao.data())) return invalid("receivers or ao: null");
-    return run_batch(impl_.get(), receivers, nullptr, ao.data(), batch);
+    return run_batch(impl_.get(), receivers, {}, ao, batch);
   });
 }
 
@@ -552,7 +368,7 @@ Status Engine::masks(std::span<const Receiver> receivers, std::span<std::uint64_
                      std::to_string(receivers.size() * per) + "), holds " + std::to_string(words.size()));
     }
     if (!receivers.empty() && (!receivers.data() || !words.data())) return invalid("receivers or words: null");
-    return run_batch(impl_.get(), receivers, words.data(), nullptr, batch);
+    return run_batch(impl_.get(), receivers, words, {}, batch);
   });
 }
 

@@ -1,6 +1,7 @@
 #include "bake/bake.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <map>
 
@@ -20,37 +21,28 @@ constexpr double kUvSlack = 1e-3;
 Result<void> check_options(const BakeOptions& o) {
   if (o.target == Target::Vertex) return {};
   if (o.texture_size < 16 || o.texture_size > 16384) {
-    return fail("--texture: the map size must be from 16 to 16384 texels, got " + std::to_string(o.texture_size));
+    return fail("texture_size: the map size must be from 16 to 16384 texels, got " + std::to_string(o.texture_size));
   }
   const int k = static_cast<int>(std::lround(std::sqrt(static_cast<double>(o.texel_samples))));
   if (o.texel_samples < 1 || o.texel_samples > 256 || k * k != o.texel_samples) {
-    return fail("--texel-samples: must be a square number from 1 to 256 (1, 4, 9, 16...), got " +
+    return fail("texel_samples: must be a square number from 1 to 256 (1, 4, 9, 16...), got " +
                 std::to_string(o.texel_samples));
   }
-  if (o.margin < 0 || o.margin > 64) return fail("--margin: must be from 0 to 64 texels, got " + std::to_string(o.margin));
-  if (o.uv_set < 0 || o.uv_set > 15) return fail("--uv-set: must be from 0 to 15, got " + std::to_string(o.uv_set));
+  if (o.margin < 0 || o.margin > 64) return fail("margin: must be from 0 to 64 texels, got " + std::to_string(o.margin));
+  if (o.uv_set < 0 || o.uv_set > 15) return fail("uv_set: must be from 0 to 15, got " + std::to_string(o.uv_set));
   return {};
 }
 
-// Asks the AO function in batches, with progress over all of them.
-Result<std::vector<float>> compute(std::span<const Receiver> receivers, const AoFunction& ao,
-                                   const ProgressCallback& progress) {
-  std::vector<float> out;
-  out.reserve(receivers.size());
-  for (std::size_t begin = 0; begin < receivers.size(); begin += kBatch) {
-    const std::size_t count = std::min(kBatch, receivers.size() - begin);
-    ProgressCallback batch_progress;
-    if (progress) {
-      batch_progress = [&, begin](std::size_t done, std::size_t) { progress(begin + done, receivers.size()); };
-    }
-    std::vector<float> values = ao(receivers.subspan(begin, count), batch_progress);
-    if (values.size() != count) {
-      return fail("the AO function returned " + std::to_string(values.size()) + " values for " + std::to_string(count) +
-                  " receivers");
-    }
-    out.insert(out.end(), values.begin(), values.end());
-  }
-  return out;
+// The receivers' AO from the engine (which batches, orders and threads them), timed.
+Result<void> compute(BakeResult& result, const engine::Engine& engine, const ProgressCallback& progress) {
+  const auto start = std::chrono::steady_clock::now();
+  engine::RunOptions run;
+  run.progress = progress;
+  Result<std::vector<float>> values = engine.ao(result.receivers, run);
+  if (!values) return std::unexpected(values.error());
+  result.ao = std::move(*values);
+  result.ao_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return {};
 }
 
 const tinygltf::Primitive& gltf_primitive(const tinygltf::Model& model, const MeshPrimitive& prim) {
@@ -95,7 +87,7 @@ Result<std::vector<glm::vec3>> file_normals(const tinygltf::Model& model, const 
   return out;
 }
 
-Result<BakeResult> bake_vertices(Document& document, const BakeOptions& options, const AoFunction& ao,
+Result<BakeResult> bake_vertices(Document& document, const BakeOptions& options, const engine::Engine& engine,
                                  const ProgressCallback& progress) {
   Document::Impl& doc = document.impl();
   const ModelWalk& walk = doc.walk;
@@ -129,9 +121,7 @@ Result<BakeResult> bake_vertices(Document& document, const BakeOptions& options,
     result.notes.push_back(std::to_string(without_file_normals) +
                            " primitive(s) have no NORMAL: their receivers use geometric normals");
   }
-  auto values = compute(result.receivers, ao, progress);
-  if (!values) return std::unexpected(values.error());
-  result.ao = std::move(*values);
+  if (auto ok = compute(result, engine, progress); !ok) return std::unexpected(ok.error());
   result.part_vertex_ao.resize(walk.parts.size());
   for (std::size_t p = 0; p < walk.parts.size(); ++p) result.part_vertex_ao[p].assign(walk.parts[p].world.size(), 1.0f);
   for (std::size_t r = 0; r < where.size(); ++r) result.part_vertex_ao[where[r].first][where[r].second] = result.ao[r];
@@ -148,8 +138,8 @@ Result<std::vector<glm::vec2>> read_uvs(const tinygltf::Model& model, const Mesh
   const auto found = gp.attributes.find(name);
   const std::string label = primitive_label(model, prim);
   if (found == gp.attributes.end()) {
-    return fail(label + " has no " + name + ": a texture bake needs UVs; bake per vertex with --vertex" +
-                (uv_set == 0 ? std::string() : " or choose another --uv-set"));
+    return fail(label + " has no " + name + ": a texture bake needs UVs; bake per vertex instead" +
+                (uv_set == 0 ? std::string() : " or choose another UV set"));
   }
   auto values = read_accessor(model, found->second, 2, kTexcoordTypes, true, label + " " + name);
   if (!values) return std::unexpected(values.error());
@@ -166,7 +156,7 @@ Result<std::vector<glm::vec2>> read_uvs(const tinygltf::Model& model, const Mesh
     std::snprintf(range, sizeof range, "(%.3g, %.3g) to (%.3g, %.3g)", lo.x, lo.y, hi.x, hi.y);
     return fail(label + ": " + name + " runs from " + range +
                 ", outside [0, 1]; an AO map needs every triangle inside the texture (tiling UVs cannot hold AO): "
-                "bake per vertex with --vertex");
+                "bake per vertex instead");
   }
   for (std::size_t v = 0; v < uv.size(); ++v) {
     uv[v] = glm::clamp(glm::vec2(static_cast<float>((*values)[2 * v]), static_cast<float>((*values)[2 * v + 1])),
@@ -198,16 +188,9 @@ std::string overlap_reason(const tinygltf::Model& model, const ModelWalk& walk, 
          primitive_label(model, walk.primitives[static_cast<std::size_t>(pb.primitive)]) + " share UV space";
 }
 
-Result<BakeResult> bake_texture(Document& document, const BakeOptions& options, const AoFunction& ao,
-                                const ProgressCallback& progress) {
-  Document::Impl& doc = document.impl();
-  tinygltf::Model& model = doc.model;
-  const ModelWalk& walk = doc.walk;
-  BakeResult result;
-  result.target = Target::Texture;
-  const int size = options.texture_size;
-
-  // UVs per primitive, read once, and one map per material.
+// Step 1 of a texture bake: every part's UVs (read once per primitive) and one map per material.
+Result<void> assign_maps(const tinygltf::Model& model, const ModelWalk& walk, const BakeOptions& options,
+                         BakeResult& result) {
   std::map<int, std::vector<glm::vec2>> uvs;
   std::map<int, int> map_of_material;
   result.part_map.assign(walk.parts.size(), -1);
@@ -225,7 +208,7 @@ Result<BakeResult> bake_texture(Document& document, const BakeOptions& options, 
     if (added) {
       AoMap map;
       map.material = prim.material;
-      map.size = size;
+      map.size = options.texture_size;
       result.maps.push_back(std::move(map));
     }
     result.part_map[p] = it->second;
@@ -233,8 +216,13 @@ Result<BakeResult> bake_texture(Document& document, const BakeOptions& options, 
   if (result.maps.size() > 1) {
     for (AoMap& map : result.maps) map.label = map.material >= 0 ? "m" + std::to_string(map.material) : "default";
   }
+  return {};
+}
 
-  // Receiver normals per triangle corner: crease-aware geometric ones, or the file's.
+// Step 2: the receiver normal at every triangle corner of every part, in part order:
+// crease-aware geometric ones, or the file's where it has them.
+Result<std::vector<glm::vec3>> corner_receiver_normals(const tinygltf::Model& model, const ModelWalk& walk,
+                                                       const BakeOptions& options, BakeResult& result) {
   std::vector<glm::vec3> corner_positions;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> corner_source;  // part, vertex
   for (std::size_t p = 0; p < walk.parts.size(); ++p) {
@@ -244,25 +232,30 @@ Result<BakeResult> bake_texture(Document& document, const BakeOptions& options, 
     }
   }
   std::vector<glm::vec3> normals = corner_normals(corner_positions, kCreaseDegrees);
-  if (options.normals == NormalSource::File) {
-    std::size_t without = 0;
-    std::map<std::uint32_t, std::vector<glm::vec3>> per_part;
-    for (std::size_t p = 0; p < walk.parts.size(); ++p) {
-      auto from_file = file_normals(model, walk, p);
-      if (!from_file) return std::unexpected(from_file.error());
-      if (from_file->empty()) ++without;
-      per_part[static_cast<std::uint32_t>(p)] = std::move(*from_file);
-    }
-    for (std::size_t c = 0; c < normals.size(); ++c) {
-      const std::vector<glm::vec3>& n = per_part[corner_source[c].first];
-      if (!n.empty() && n[corner_source[c].second] != glm::vec3(0.0f)) normals[c] = n[corner_source[c].second];
-    }
-    if (without > 0) {
-      result.notes.push_back(std::to_string(without) + " primitive(s) have no NORMAL: their texels use geometric normals");
-    }
+  if (options.normals != NormalSource::File) return normals;
+  std::size_t without = 0;
+  std::map<std::uint32_t, std::vector<glm::vec3>> per_part;
+  for (std::size_t p = 0; p < walk.parts.size(); ++p) {
+    auto from_file = file_normals(model, walk, p);
+    if (!from_file) return std::unexpected(from_file.error());
+    if (from_file->empty()) ++without;
+    per_part[static_cast<std::uint32_t>(p)] = std::move(*from_file);
   }
+  for (std::size_t c = 0; c < normals.size(); ++c) {
+    const std::vector<glm::vec3>& n = per_part[corner_source[c].first];
+    if (!n.empty() && n[corner_source[c].second] != glm::vec3(0.0f)) normals[c] = n[corner_source[c].second];
+  }
+  if (without > 0) {
+    result.notes.push_back(std::to_string(without) + " primitive(s) have no NORMAL: their texels use geometric normals");
+  }
+  return normals;
+}
 
-  // Texel receivers, map by map.
+// Step 3: the texel receivers, map by map, appended to result.receivers with their map and
+// texel. Returns each map's coverage (the receivers themselves moved out).
+std::vector<TexelReceivers> place_texel_receivers(const ModelWalk& walk, std::span<const glm::vec3> normals,
+                                                  const BakeOptions& options, BakeResult& result) {
+  const int size = options.texture_size;
   const int k = static_cast<int>(std::lround(std::sqrt(static_cast<double>(options.texel_samples))));
   std::vector<TexelReceivers> texels(result.maps.size());
   for (std::size_t m = 0; m < result.maps.size(); ++m) {
@@ -294,12 +287,13 @@ Result<BakeResult> bake_texture(Document& document, const BakeOptions& options, 
     result.receiver_map.insert(result.receiver_map.end(), texels[m].receivers.size(), static_cast<std::uint32_t>(m));
     texels[m].receivers = {};
   }
+  return texels;
+}
 
-  auto values = compute(result.receivers, ao, progress);
-  if (!values) return std::unexpected(values.error());
-  result.ao = std::move(*values);
-
-  // Each texel is the mean of its receivers; then the margin.
+// Step 5: each texel the mean of its receivers, then the margin; overlapping UVs noted.
+void fill_maps(const tinygltf::Model& model, const ModelWalk& walk, std::span<const TexelReceivers> texels,
+               const BakeOptions& options, BakeResult& result) {
+  const int size = options.texture_size;
   const std::size_t texel_count = static_cast<std::size_t>(size) * static_cast<std::size_t>(size);
   std::vector<std::vector<std::uint32_t>> counts(result.maps.size());
   for (std::size_t m = 0; m < result.maps.size(); ++m) {
@@ -330,8 +324,12 @@ Result<BakeResult> bake_texture(Document& document, const BakeOptions& options, 
                              ": they hold the mean AO of every surface mapped there");
     }
   }
+}
 
-  // The maps into the model: one image, texture and sampler each; the image's bytes come at save.
+// Step 6: the maps into the model: one image, texture and sampler each (the image's bytes come
+// at save), and each material's occlusionTexture.
+void attach_maps(tinygltf::Model& model, const std::string& name, const ModelWalk& walk, const BakeOptions& options,
+                 BakeResult& result) {
   tinygltf::Sampler sampler;
   sampler.name = "exao AO";
   sampler.magFilter = TINYGLTF_TEXTURE_FILTER_LINEAR;
@@ -341,7 +339,7 @@ Result<BakeResult> bake_texture(Document& document, const BakeOptions& options, 
   const int sampler_index = static_cast<int>(model.samplers.size() - 1);
   for (AoMap& map : result.maps) {
     tinygltf::Image image;
-    image.name = doc.name + " AO" + (map.label.empty() ? "" : " " + map.label);
+    image.name = name + " AO" + (map.label.empty() ? "" : " " + map.label);
     image.mimeType = "image/png";
     model.images.push_back(image);
     map.image = static_cast<int>(model.images.size() - 1);
@@ -374,22 +372,33 @@ Result<BakeResult> bake_texture(Document& document, const BakeOptions& options, 
     target.occlusionTexture.texCoord = options.uv_set;
     target.occlusionTexture.strength = 1.0;
   }
+}
+
+Result<BakeResult> bake_texture(Document& document, const BakeOptions& options, const engine::Engine& engine,
+                                const ProgressCallback& progress) {
+  Document::Impl& doc = document.impl();
+  const ModelWalk& walk = doc.walk;
+  BakeResult result;
+  result.target = Target::Texture;
+  if (auto ok = assign_maps(doc.model, walk, options, result); !ok) return std::unexpected(ok.error());
+  Result<std::vector<glm::vec3>> normals = corner_receiver_normals(doc.model, walk, options, result);
+  if (!normals) return std::unexpected(normals.error());
+  const std::vector<TexelReceivers> texels = place_texel_receivers(walk, *normals, options, result);
+  if (auto ok = compute(result, engine, progress); !ok) return std::unexpected(ok.error());
+  fill_maps(doc.model, walk, texels, options, result);
+  attach_maps(doc.model, doc.name, walk, options, result);
   return result;
 }
 
 }  // namespace
 
-Result<BakeResult> bake(Document& document, const BakeOptions& options, const AoFunction& ao,
+Result<BakeResult> bake(Document& document, const BakeOptions& options, const engine::Engine& engine,
                         const ProgressCallback& progress) {
   if (auto ok = check_options(options); !ok) return std::unexpected(ok.error());
-  Result<BakeResult> result = options.target == Target::Vertex ? bake_vertices(document, options, ao, progress)
-                                                               : bake_texture(document, options, ao, progress);
-  if (!result) {
-    // Messages about the input name it; option errors already name the option.
-    const std::string& m = result.error().message;
-    if (m.rfind("--", 0) != 0 && document.from_gltf()) return fail(document.impl().source_path + ": " + m);
-    if (m.rfind("--", 0) != 0 && !document.from_gltf()) return fail(document.name() + ": " + m);
-  }
+  Result<BakeResult> result = options.target == Target::Vertex ? bake_vertices(document, options, engine, progress)
+                                                               : bake_texture(document, options, engine, progress);
+  // What fails past the options is about the input: the message names it.
+  if (!result) return fail((document.from_gltf() ? document.impl().source_path : document.name()) + ": " + result.error().message);
   return result;
 }
 

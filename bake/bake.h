@@ -1,7 +1,7 @@
 #pragma once
-// exao::bake::bake: AO baked into a glTF model (issue 6), per vertex or per texel. The AO itself
-// comes from the caller (any backend of DESIGN.md section 5), so the bake only decides where the
-// receivers are and where their values go.
+// exao::bake::bake: AO baked into a glTF model, per vertex or per texel. The AO comes from the
+// library engine (engine/engine.h, any method that serves points), so the bake only decides where
+// the receivers are and where their values go.
 
 #include <cstdint>
 #include <functional>
@@ -13,6 +13,7 @@
 
 #include "bake/document.h"
 #include "core/error.h"
+#include "engine/engine.h"
 #include "core/progress.h"
 #include "core/receiver_frame.h"
 
@@ -32,11 +33,6 @@ struct BakeOptions {
   int margin = 4;              // dilation rings around each chart, texels (0 to 64)
 };
 
-/// AO (1 open, 0 occluded) of each receiver, in order; progress in receivers. The bake calls it
-/// with batches of at most kBatch receivers, so the masks of a large map never sit in memory at once.
-using AoFunction = std::function<std::vector<float>(std::span<const Receiver>, const ProgressCallback&)>;
-inline constexpr std::size_t kBatch = std::size_t{1} << 20;
-
 /// One AO map: every primitive (of the default scene) with the same material shares it.
 struct AoMap {
   int material = -1;                 // glTF material it belongs to (-1: primitives without one)
@@ -51,8 +47,9 @@ struct AoMap {
 
 struct BakeResult {
   Target target = Target::Vertex;
-  std::vector<Receiver> receivers;   // everything the AO function was asked about
+  std::vector<Receiver> receivers;   // everything the engine was asked about
   std::vector<float> ao;             // its answers
+  double ao_seconds = 0.0;           // time spent in the engine
   std::vector<AoMap> maps;           // texture bakes
   /// Texture bakes: per receiver, its map and texel (y * size + x).
   std::vector<std::uint32_t> receiver_map, receiver_texel;
@@ -65,12 +62,14 @@ struct BakeResult {
   std::vector<std::string> notes;    // one line each, for the user
 };
 
-/// Bakes: finds the receivers, asks `ao` about them, and writes the result into the document's
+/// Bakes: finds the receivers, asks `engine` about them (progress in receivers), and writes the
+/// result into the document's
 /// model (vertex: a COLOR_0 or _AO accessor per primitive, meshes split per node where their AO
 /// differs; texture: maps, and each material's occlusionTexture with texCoord = uv_set, its other
-/// textures kept). Fails, naming the problem, on bad options, a primitive without the UV set
-/// (the message suggests --vertex), or UVs outside [0, 1].
-[[nodiscard]] Result<BakeResult> bake(Document& document, const BakeOptions& options, const AoFunction& ao,
+/// textures kept). `engine` must be built from document.scene() for Receivers::Points. Fails,
+/// naming the problem, on bad options (naming the field: "texel_samples: ..."), a primitive
+/// without the UV set (the message suggests a vertex bake), or UVs outside [0, 1].
+[[nodiscard]] Result<BakeResult> bake(Document& document, const BakeOptions& options, const engine::Engine& engine,
                                       const ProgressCallback& progress = {});
 
 }  // namespace exao::bake

@@ -16,12 +16,12 @@
 #include "bake/document.h"
 #include "bake/preview.h"
 #include "bake/save.h"
-#include "cli/backends.h"
 #include "cli/commands.h"
 #include "cli/common_options.h"
 #include "cli/progress_bar.h"
 #include "core/image_io.h"
 #include "core/load_scene.h"
+#include "engine/engine.h"
 
 namespace exao::cli {
 namespace {
@@ -73,181 +73,214 @@ void print_notes(const std::string& name, const std::vector<std::string>& notes)
   for (const std::string& note : notes) std::fprintf(stderr, "exao: %s: %s\n", name.c_str(), note.c_str());
 }
 
-struct Timed {
-  double seconds = 0.0;
+// For `exao bake --compare M`: errors about the second engine's method name --compare.
+const FlagOverrides kCompareFlags{{"method", "--compare"}};
+
+// What the flags ask for, checked before any work: the engines' options (the second one for
+// --compare) and the bake's.
+struct BakePlan {
+  engine::Options engine;
+  std::optional<engine::Options> compare;
+  bake::BakeOptions bake;
 };
 
-int run_bake(const BakeCommandOptions& options) {
-  const auto threads = thread_limit(options.rays.threads);
-  Result<Method> method = parse_method(options.method.method);
-  if (!method) return report(method.error());
-  std::optional<Method> compare;
+Result<BakePlan> plan_bake(const BakeCommandOptions& options, FlagOverrides& flags) {
+  BakePlan plan;
+  Result<engine::Options> engine_options = make_options(options.scene, options.rays, options.method);
+  if (!engine_options) return std::unexpected(engine_options.error());
+  plan.engine = *engine_options;
+  if (auto ok = engine::check_serves(plan.engine, engine::Receivers::Points); !ok) return std::unexpected(ok.error());
   if (!options.compare.empty()) {
-    Result<Method> parsed = parse_method(options.compare);
-    if (!parsed) return report(Error{"--compare: unknown method '" + options.compare + "' (embree, brute or bvh)"});
-    compare = *parsed;
+    flags = kCompareFlags;
+    Result<engine::Method> method = engine::parse_method(options.compare);
+    if (!method) return std::unexpected(method.error());
+    plan.compare = plan.engine;
+    plan.compare->method = *method;
+    if (auto ok = engine::check_serves(*plan.compare, engine::Receivers::Points); !ok) return std::unexpected(ok.error());
+    flags.clear();
   }
-  Result<BackendOptions> backend_options = make_backend_options(options.method);
-  if (!backend_options) return report(backend_options.error());
-  if (options.vertex && options.texture) return report(Error{"--vertex and --texture: choose one"});
+  if (options.vertex && options.texture) return fail("--vertex and --texture: choose one");
+  if (options.attribute && options.texture) return fail("--attribute: only for vertex bakes");
   if (options.normals != "geometric" && options.normals != "file") {
-    return report(Error{"--normals: must be geometric or file, got '" + options.normals + "'"});
+    return fail("normals: must be geometric or file, got '" + options.normals + "'");
   }
-  bake::BakeOptions bake_options;
-  bake_options.target = options.texture ? bake::Target::Texture : bake::Target::Vertex;
-  bake_options.channel = options.attribute ? bake::VertexChannel::Attribute : bake::VertexChannel::Color;
-  bake_options.normals = options.normals == "file" ? bake::NormalSource::File : bake::NormalSource::Geometric;
-  bake_options.texture_size = options.texture.value_or(1024);
-  bake_options.uv_set = options.uv_set;
-  bake_options.texel_samples = options.texel_samples;
-  bake_options.margin = options.margin;
-  if (options.attribute && options.texture) return report(Error{"--attribute: only for vertex bakes"});
-  if (options.png_bits != 8 && options.png_bits != 16) {
-    return report(Error{"--png-bits: must be 8 or 16, got " + std::to_string(options.png_bits)});
-  }
+  if (options.png_bits != 8 && options.png_bits != 16) return fail("png_bits: must be 8 or 16, got " + std::to_string(options.png_bits));
+  bake::BakeOptions& b = plan.bake;
+  b.target = options.texture ? bake::Target::Texture : bake::Target::Vertex;
+  b.channel = options.attribute ? bake::VertexChannel::Attribute : bake::VertexChannel::Color;
+  b.normals = options.normals == "file" ? bake::NormalSource::File : bake::NormalSource::Geometric;
+  b.texture_size = options.texture.value_or(1024);
+  b.uv_set = options.uv_set;
+  b.texel_samples = options.texel_samples;
+  b.margin = options.margin;
+  // The map size bounds the atlas below, so it is checked here rather than by the bake.
   if (options.texture && (*options.texture < 16 || *options.texture > 16384)) {
-    return report(Error{"--texture: the map size must be from 16 to 16384 texels, got " + std::to_string(*options.texture)});
+    return fail("texture_size: the map size must be from 16 to 16384 texels, got " + std::to_string(*options.texture));
   }
-  if (options.margin < 0 || options.margin > 64) {
-    return report(Error{"--margin: must be from 0 to 64 texels, got " + std::to_string(options.margin)});
-  }
+  if (options.margin < 0 || options.margin > 64) return fail("margin: must be from 0 to 64 texels, got " + std::to_string(options.margin));
+  return plan;
+}
 
-  // A mesh without UVs gets a box-projection atlas laid out for this map size.
+// The document to bake: a glTF read whole, or anything else converted (a mesh without UVs gets a
+// box-projection atlas laid out for the map size). Its notes go to stderr.
+Result<bake::Document> open_document(const BakeCommandOptions& options) {
   bake::ConvertOptions convert;
   if (options.texture) {
     convert.atlas_size = *options.texture;
     convert.atlas_padding = 2 * options.margin + 2;
   }
   Result<bake::Document> document = bake::Document::open(options.scene.scene, convert);
-  if (!document) return report(document.error());
-  const Scene& scene = document->scene();
-  const LoadReport& r = scene.report;
-  const std::string& name = options.scene.scene;
-  if (r.zero_area_skipped) {
-    std::fprintf(stderr, "exao: %s: skipped %zu zero-area triangles of %zu\n", name.c_str(), r.zero_area_skipped, r.triangles_read);
-  }
-  if (r.non_finite_skipped) {
-    std::fprintf(stderr, "exao: %s: skipped %zu triangles with NaN or infinite vertices\n", name.c_str(), r.non_finite_skipped);
-  }
-  print_notes(name, r.notes);
-  print_notes(name, document->notes());
-  apply_sidedness(document->scene(), options.scene.sided == "one"   ? Sidedness::One
-                                     : options.scene.sided == "two" ? Sidedness::Two
-                                                                    : Sidedness::Auto);
+  if (!document) return document;
+  print_load_report(options.scene.scene, document->scene().report);
+  print_notes(options.scene.scene, document->notes());
+  return document;
+}
 
-  const std::string output = options.output.empty() ? default_output(options, *document) : options.output;
-  if (auto ok = check_output(output, options.scene.scene); !ok) return report(ok.error());
-  bake::SaveOptions save_options{output, options.png_bits};
-  if (auto planned = bake::planned_outputs(*document, nullptr, save_options); !planned) return report(planned.error());
-  if (auto ok = check_folder(output); !ok) return report(ok.error());
-  const std::string preview = options.preview.value_or((fs::path(output).parent_path() / fs::path(output).stem()).string() +
-                                                       "-preview.png");
-  if (!preview.empty()) {
-    if (auto ok = check_output(preview, options.scene.scene); !ok) return report(ok.error());
-  }
+struct OutputPaths {
+  bake::SaveOptions save;
+  std::string preview;  // empty: none
+  Camera camera;        // of the preview
+  int width = 0, height = 0;
+};
 
-  Result<ShadowRays> rays = make_rays(options.rays, scene);
-  if (!rays) return report(rays.error());
-  Result<Camera> camera = choose_camera(options.camera, scene);
-  if (!camera) return report(camera.error());
+// Where the outputs go, checked before the (long) bake: never the input, a writable folder.
+Result<OutputPaths> plan_outputs(const BakeCommandOptions& options, const bake::Document& document) {
+  OutputPaths out;
+  const std::string output = options.output.empty() ? default_output(options, document) : options.output;
+  if (auto ok = check_output(output, options.scene.scene); !ok) return std::unexpected(ok.error());
+  out.save = bake::SaveOptions{output, options.png_bits};
+  if (auto planned = bake::planned_outputs(document, nullptr, out.save); !planned) return std::unexpected(planned.error());
+  if (auto ok = check_folder(output); !ok) return std::unexpected(ok.error());
+  out.preview = options.preview.value_or((fs::path(output).parent_path() / fs::path(output).stem()).string() + "-preview.png");
+  if (out.preview.empty()) return out;
+  if (auto ok = check_output(out.preview, options.scene.scene); !ok) return std::unexpected(ok.error());
+  Result<Camera> camera = choose_camera(options.camera, document.scene());
+  if (!camera) return std::unexpected(camera.error());
   Result<int> height = image_height(options.camera, *camera);
-  if (!height) return report(height.error());
-  std::vector<Method> methods{*method};
-  if (compare) methods.push_back(*compare);
-  Result<Backends> backends = Backends::prepare(scene, methods, *backend_options);
-  if (!backends) return report(backends.error());
-  std::optional<lut::MaskEngine> engine;
-  if (*method != Method::Embree || (compare && *compare != Method::Embree)) {
-    Result<lut::MaskEngine> built = backends->engine(*rays, backend_options->masks);
-    if (!built) return report(built.error());
-    engine = std::move(*built);
-  }
-  const auto ao_of = [&](Method m, Timed& timed) {
-    return [&, m](std::span<const Receiver> receivers, const ProgressCallback& progress) {
-      const auto start = std::chrono::steady_clock::now();
-      const MaskSet masks = backends->run(m, *rays, engine ? &*engine : nullptr, receivers, progress);
-      timed.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      std::vector<float> ao(masks.size());
-      for (std::size_t i = 0; i < masks.size(); ++i) ao[i] = masks.ao(i);
-      return ao;
-    };
-  };
+  if (!height) return std::unexpected(height.error());
+  out.camera = *camera;
+  out.width = options.camera.width;
+  out.height = *height;
+  return out;
+}
 
-  Timed main_time;
+// The preview picture: grey AO on a dark slate background, so that open (white) surfaces keep
+// their outline.
+Result<void> write_preview(const OutputPaths& outputs, const bake::Document& document, const bake::BakeResult& result,
+                           const engine::Engine& engine) {
+  const AoImage image =
+      bake::render_preview(document, result, *engine.geometry().embree(), outputs.camera, outputs.width, outputs.height);
+  std::vector<std::uint8_t> rgb(3 * image.ao.size());
+  for (std::size_t i = 0; i < image.ao.size(); ++i) {
+    const auto grey = static_cast<std::uint8_t>(std::lround(255.0f * std::clamp(image.ao[i], 0.0f, 1.0f)));
+    const bool hit = image.coverage[i] > 0.0f;
+    rgb[3 * i] = hit ? grey : 46;
+    rgb[3 * i + 1] = hit ? grey : 52;
+    rgb[3 * i + 2] = hit ? grey : 64;
+  }
+  return write_png_bytes(rgb, image.width, image.height, 3, outputs.preview);
+}
+
+void print_throughput(engine::Method method, double seconds, std::size_t receivers, int samples) {
+  const double rays = static_cast<double>(receivers) * samples;
+  std::printf("  %-6s %9.3f s  %8.1f Mrays/s  %10.0f receivers/s\n", engine::method_name(method), seconds,
+              seconds > 0.0 ? rays / seconds * 1e-6 : 0.0, seconds > 0.0 ? static_cast<double>(receivers) / seconds : 0.0);
+}
+
+void print_summary(const std::string& name, const bake::Document& document, const bake::BakeOptions& bake_options,
+                   const bake::BakeResult& result, const engine::Engine& engine) {
+  std::string what;
+  if (result.target == bake::Target::Vertex) {
+    what = std::to_string(result.receivers.size()) + " vertex receivers";
+    if (result.meshes_split > 0) what += ", " + std::to_string(result.meshes_split) + " meshes split per node";
+  } else {
+    std::size_t covered = 0;
+    for (const bake::AoMap& map : result.maps) covered += map.covered_texels;
+    what = std::to_string(result.receivers.size()) + " texel receivers, " + std::to_string(covered) + " texels in " +
+           std::to_string(result.maps.size()) + " map(s) of " + std::to_string(bake_options.texture_size) + "^2, " +
+           std::to_string(bake_options.texel_samples) + " samples/texel";
+  }
+  std::printf("%s: %zu triangles, %s, N=%d, r=%g\n", name.c_str(), document.scene().triangle_count(), what.c_str(),
+              engine.samples(), static_cast<double>(engine.radius()));
+  print_throughput(engine.method(), result.ao_seconds, result.receivers.size(), engine.samples());
+}
+
+// --compare: the second engine on the same receivers, and how its AO agrees with the bake's.
+Result<void> run_compare(const bake::BakeResult& result, const engine::Engine& main, const engine::Engine& other) {
+  Result<std::vector<float>> ao;
+  const auto start = std::chrono::steady_clock::now();
+  {
+    ProgressBar bar(std::string("compare ") + engine::method_name(other.method()));
+    engine::RunOptions run;
+    run.progress = bar.callback();
+    ao = other.ao(result.receivers, run);
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (!ao) return std::unexpected(ao.error());
+  std::size_t identical = 0;
+  double largest = 0.0, sum = 0.0;
+  for (std::size_t i = 0; i < ao->size(); ++i) {
+    const double d = std::abs(static_cast<double>((*ao)[i]) - result.ao[i]);
+    identical += d == 0.0 ? 1 : 0;
+    largest = std::max(largest, d);
+    sum += d;
+  }
+  print_throughput(other.method(), seconds, result.receivers.size(), other.samples());
+  const double n = static_cast<double>(std::max<std::size_t>(1, result.receivers.size()));
+  const char* a = engine::method_name(main.method());
+  const char* b = engine::method_name(other.method());
+  std::printf("  %s vs %s: %.2f%% of receivers identical, mean |dAO| %.5f, max %.4f; %s is %.2fx the speed of %s\n", a, b,
+              100.0 * static_cast<double>(identical) / n, sum / n, largest, a,
+              result.ao_seconds > 0.0 ? seconds / result.ao_seconds : 0.0, b);
+  return {};
+}
+
+int run_bake(const BakeCommandOptions& options) {
+  FlagOverrides flags;
+  Result<BakePlan> plan = plan_bake(options, flags);
+  if (!plan) return report(plan.error(), flags);
+  Result<bake::Document> document = open_document(options);
+  if (!document) return report(document.error());
+  Result<OutputPaths> outputs = plan_outputs(options, *document);
+  if (!outputs) return report(outputs.error());
+
+  // One geometry for the bake's engine, the --compare engine and the preview's primary rays.
+  std::vector<engine::Method> methods{plan->engine.method};
+  if (plan->compare) methods.push_back(plan->compare->method);
+  engine::GeometryOptions geometry_options;
+  geometry_options.sidedness = plan->engine.sidedness;
+  geometry_options.bvh = plan->engine.bvh;
+  geometry_options.embree = !outputs->preview.empty();
+  geometry_options.threads = plan->engine.threads;
+  auto geometry = engine::Geometry::build(document->scene(), methods, geometry_options);
+  if (!geometry) return report(geometry.error());
+  Result<engine::Engine> engine = engine::Engine::build(*geometry, plan->engine, engine::Receivers::Points);
+  if (!engine) return report(engine.error());
+
   Result<bake::BakeResult> result;
   {
     ProgressBar bar("bake");
-    result = bake::bake(*document, bake_options, ao_of(*method, main_time), bar.callback());
+    result = bake::bake(*document, plan->bake, *engine, bar.callback());
   }
   if (!result) return report(result.error());
+  const std::string& name = options.scene.scene;
   print_notes(name, result->notes);
 
   // Outputs first, so that bad output paths give one line; then what was measured.
   std::vector<std::string> save_notes;
-  Result<std::vector<std::string>> written = bake::save(*document, *result, save_options, save_notes);
+  Result<std::vector<std::string>> written = bake::save(*document, *result, outputs->save, save_notes);
   if (!written) return report(written.error());
   print_notes(name, save_notes);
-  if (!preview.empty()) {
-    const AoImage image = bake::render_preview(*document, *result, backends->embree(), *camera, options.camera.width, *height);
-    // Grey AO on a dark slate background, so that open (white) surfaces keep their outline.
-    std::vector<std::uint8_t> rgb(3 * image.ao.size());
-    for (std::size_t i = 0; i < image.ao.size(); ++i) {
-      const auto grey = static_cast<std::uint8_t>(std::lround(255.0f * std::clamp(image.ao[i], 0.0f, 1.0f)));
-      const bool hit = image.coverage[i] > 0.0f;
-      rgb[3 * i] = hit ? grey : 46;
-      rgb[3 * i + 1] = hit ? grey : 52;
-      rgb[3 * i + 2] = hit ? grey : 64;
-    }
-    if (auto ok = write_png_bytes(rgb, image.width, image.height, 3, preview); !ok) return report(ok.error());
-    written->push_back(preview);
+  if (!outputs->preview.empty()) {
+    if (auto ok = write_preview(*outputs, *document, *result, *engine); !ok) return report(ok.error());
+    written->push_back(outputs->preview);
   }
-  const double rays_cast = static_cast<double>(result->receivers.size()) * rays->count();
-  const auto throughput = [&](Method m, double seconds) {
-    std::printf("  %-6s %9.3f s  %8.1f Mrays/s  %10.0f receivers/s\n", method_name(m), seconds,
-                seconds > 0.0 ? rays_cast / seconds * 1e-6 : 0.0,
-                seconds > 0.0 ? static_cast<double>(result->receivers.size()) / seconds : 0.0);
-  };
-  std::string what;
-  if (result->target == bake::Target::Vertex) {
-    what = std::to_string(result->receivers.size()) + " vertex receivers";
-    if (result->meshes_split > 0) what += ", " + std::to_string(result->meshes_split) + " meshes split per node";
-  } else {
-    std::size_t covered = 0;
-    for (const bake::AoMap& map : result->maps) covered += map.covered_texels;
-    what = std::to_string(result->receivers.size()) + " texel receivers, " + std::to_string(covered) + " texels in " +
-           std::to_string(result->maps.size()) + " map(s) of " + std::to_string(bake_options.texture_size) + "^2, " +
-           std::to_string(bake_options.texel_samples) + " samples/texel";
+  print_summary(name, *document, plan->bake, *result, *engine);
+  if (plan->compare) {
+    Result<engine::Engine> other = engine::Engine::build(*geometry, *plan->compare, engine::Receivers::Points);
+    if (!other) return report(other.error(), kCompareFlags);
+    if (auto ok = run_compare(*result, *engine, *other); !ok) return report(ok.error(), kCompareFlags);
   }
-  std::printf("%s: %zu triangles, %s, N=%d, r=%g\n", name.c_str(), scene.triangle_count(), what.c_str(), rays->count(),
-              static_cast<double>(rays->radius));
-  throughput(*method, main_time.seconds);
-  if (compare) {
-    Timed compare_time;
-    const auto compare_ao = ao_of(*compare, compare_time);
-    std::size_t identical = 0;
-    double largest = 0.0, sum = 0.0;
-    {
-      ProgressBar bar(std::string("compare ") + method_name(*compare));
-      const std::span<const Receiver> all(result->receivers);
-      for (std::size_t begin = 0; begin < all.size(); begin += bake::kBatch) {
-        const std::size_t count = std::min(bake::kBatch, all.size() - begin);
-        const std::vector<float> other = compare_ao(all.subspan(begin, count), {});
-        for (std::size_t i = 0; i < count; ++i) {
-          const double d = std::abs(static_cast<double>(other[i]) - result->ao[begin + i]);
-          identical += d == 0.0 ? 1 : 0;
-          largest = std::max(largest, d);
-          sum += d;
-        }
-      }
-    }
-    throughput(*compare, compare_time.seconds);
-    const double n = static_cast<double>(std::max<std::size_t>(1, result->receivers.size()));
-    std::printf("  %s vs %s: %.2f%% of receivers identical, mean |dAO| %.5f, max %.4f; %s is %.2fx the speed of %s\n",
-                method_name(*method), method_name(*compare), 100.0 * static_cast<double>(identical) / n, sum / n, largest,
-                method_name(*method), main_time.seconds > 0.0 ? compare_time.seconds / main_time.seconds : 0.0,
-                method_name(*compare));
-  }
-
   std::string files;
   for (const std::string& file : *written) files += (files.empty() ? "" : ", ") + file;
   std::printf("-> %s\n", files.c_str());
@@ -279,7 +312,7 @@ Command add_bake_command(CLI::App& app) {
   command->add_option("--preview", options->preview,
                       "PNG picture of the baked AO from the camera options (default <output stem>-preview.png; '' for none)");
   command->add_option("--compare", options->compare,
-                      "Also time this method (embree, brute, bvh) on the same receivers and report how the answers agree");
+                      "Also time this method (embree, brute or bvh: raster serves only a camera's pixels) on the same receivers and report how the answers agree");
   return [options, command]() { return command->parsed() ? run_bake(*options) : -1; };
 }
 

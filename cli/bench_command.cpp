@@ -9,16 +9,13 @@
 #include <memory>
 #include <sstream>
 
-#include <tbb/global_control.h>
-#include <tbb/info.h>
-
-#include "cli/backends.h"
 #include "cli/bench_report.h"
 #include "cli/commands.h"
 #include "cli/common_options.h"
 #include "cli/progress_bar.h"
 #include "core/atomic_write.h"
 #include "core/pixel_receivers.h"
+#include "engine/engine.h"
 
 namespace exao::cli {
 namespace {
@@ -62,33 +59,60 @@ void compare(const MaskSet& reference, const MaskSet& masks, BenchRun& run) {
   run.max_abs_error = max_error;
 }
 
-int run_bench(const BenchOptions& options) {
-  const auto threads = thread_limit(options.rays.threads);
-  std::vector<Method> methods;
-  for (const std::string& name : options.methods) {
-    Result<Method> m = parse_method(name);
-    if (!m) return report(m.error());
-    methods.push_back(*m);
-  }
+// One timed configuration of a (N, r): a method with a mask mode, or Embree with a ray mode.
+struct Config {
+  engine::Method method;
+  lut::MaskMode mode;
+  EmbreeRays rays;
+};
+
+// The lists of --methods, --masks and --embree-rays, each checked against what the methods serve
+// (every one of them on a camera's pixels).
+struct BenchLists {
+  std::vector<engine::Method> methods;  // embree first: the reference of every comparison
   std::vector<lut::MaskMode> modes;
+  std::vector<EmbreeRays> embree_modes;
+};
+
+Result<BenchLists> parse_lists(const BenchOptions& options, const engine::Options& base) {
+  BenchLists out;
+  out.methods.push_back(engine::Method::Embree);
+  for (const std::string& name : options.methods) {
+    Result<engine::Method> m = engine::parse_method(name);
+    if (!m) return std::unexpected(m.error());
+    if (std::find(out.methods.begin(), out.methods.end(), *m) == out.methods.end()) out.methods.push_back(*m);
+  }
   for (const std::string& name : options.masks) {
     Result<lut::MaskMode> m = lut::parse_mask_mode(name);
-    if (!m) return report(m.error());
-    modes.push_back(*m);
+    if (!m) return std::unexpected(m.error());
+    out.modes.push_back(*m);
   }
-  std::vector<EmbreeRays> embree_modes;
   for (const std::string& name : options.embree_rays) {
     Result<EmbreeRays> r = parse_embree_rays(name);
-    if (!r) return report(r.error());
-    embree_modes.push_back(*r);
+    if (!r) return std::unexpected(r.error());
+    out.embree_modes.push_back(*r);
   }
-  if (embree_modes.empty()) return report(Error{"--embree-rays: give at least one mode"});
+  if (out.embree_modes.empty()) return fail("embree.rays: give at least one mode");
   for (const int n : options.samples) {
-    if (auto ok = check_sample_count(n); !ok) return report(ok.error());
+    if (auto ok = check_sample_count(n); !ok) return std::unexpected(ok.error());
   }
-  if (options.repeats < 1) return report(Error{"--repeats: must be at least 1"});
-  Result<BackendOptions> backend_options = make_backend_options(options.method);
-  if (!backend_options) return report(backend_options.error());
+  for (const engine::Method m : out.methods) {
+    for (const lut::MaskMode mode : out.modes) {
+      engine::Options o = base;
+      o.method = m;
+      o.masks = mode;
+      if (auto ok = engine::check_serves(o, engine::Receivers::Pixels); !ok) return std::unexpected(ok.error());
+    }
+  }
+  return out;
+}
+
+int run_bench(const BenchOptions& options) {
+  if (options.repeats < 1) return report(Error{"--repeats: must be at least 1, got " + std::to_string(options.repeats)});
+  Result<engine::Options> base = make_options(options.scene, options.rays, options.method);
+  if (!base) return report(base.error());
+  Result<BenchLists> lists = parse_lists(options, *base);
+  if (!lists) return report(lists.error(), {{"method", "--methods"}});
 
   Result<Scene> scene = open_scene(options.scene);
   if (!scene) return report(scene.error());
@@ -96,40 +120,56 @@ int run_bench(const BenchOptions& options) {
   if (!camera) return report(camera.error());
   Result<int> height = image_height(options.camera, *camera);
   if (!height) return report(height.error());
-  Result<Backends> backends = Backends::prepare(*scene, methods, *backend_options);
-  if (!backends) return report(backends.error());
-  const PixelReceivers pixels = pixel_receivers(backends->embree(), *scene, *camera, options.camera.width, *height);
-  if (pixels.receivers.empty()) return report(Error{options.scene.scene + ": the camera sees no triangle; try --eye/--target"});
+  // One geometry (Embree scene, triangles, BVH) for every engine of the run.
+  engine::GeometryOptions geometry_options;
+  geometry_options.sidedness = base->sidedness;
+  geometry_options.bvh = base->bvh;
+  geometry_options.embree = true;
+  geometry_options.threads = base->threads;
+  Result<std::shared_ptr<const engine::Geometry>> geometry =
+      engine::Geometry::build(*scene, lists->methods, geometry_options);
+  if (!geometry) return report(geometry.error());
+  const auto engine_for = [&](engine::Method method, lut::MaskMode mode, int n, const std::string& radius) {
+    engine::Options o = *base;
+    o.method = method;
+    o.masks = mode;
+    o.samples = n;
+    Result<engine::Length> r = parse_radius(radius);
+    if (!r) return Result<engine::Engine>(std::unexpected(r.error()));
+    o.radius = *r;
+    return engine::Engine::build(*geometry, o, engine::Receivers::Pixels);
+  };
+  // Every method runs on Embree's pixel receivers, so that all cast the same rays.
+  Result<engine::Engine> reference = engine_for(engine::Method::Embree, lut::MaskMode::Exact, options.samples.front(),
+                                                options.radii.empty() ? std::string() : options.radii.front());
+  if (!reference) return report(reference.error());
+  Result<PixelReceivers> pixels = reference->pixel_receivers(*camera, options.camera.width, *height);
+  if (!pixels) return report(pixels.error());
+  if (pixels->receivers.empty()) return report(Error{options.scene.scene + ": the camera sees no triangle; try --eye/--target"});
 
   BenchReport report_data;
   report_data.scene = options.scene.scene;
   report_data.triangles = scene->triangle_count();
-  report_data.receivers = pixels.receivers.size();
-  report_data.threads = options.rays.threads > 0 ? options.rays.threads : tbb::info::default_concurrency();
-  report_data.width = pixels.width;
-  report_data.height = pixels.height;
+  report_data.receivers = pixels->receivers.size();
+  report_data.threads = reference->threads();
+  report_data.width = pixels->width;
+  report_data.height = pixels->height;
   print_bench_header(report_data);
 
   for (const int n : options.samples) {
     for (const std::string& radius_text : options.radii) {
-      RayOptions ray_options = options.rays;
-      ray_options.samples = n;
-      ray_options.radius = radius_text;
-      Result<ShadowRays> rays = make_rays(ray_options, *scene);
-      if (!rays) return report(rays.error());
-      std::vector<std::unique_ptr<lut::MaskEngine>> engines(2);
-      for (const lut::MaskMode mode : modes) {
-        Result<lut::MaskEngine> engine = backends->engine(*rays, mode);
-        if (!engine) return report(engine.error());
-        engines[static_cast<int>(mode)] = std::make_unique<lut::MaskEngine>(std::move(*engine));
-      }
       // The configurations of this (N, r): Embree first, the reference for every comparison.
-      struct Config { Method method; lut::MaskMode mode; EmbreeRays rays; };
       std::vector<Config> configs;
-      for (const EmbreeRays r : embree_modes) configs.push_back({Method::Embree, lut::MaskMode::Exact, r});
-      for (const Method m : methods) {
-        if (m == Method::Embree) continue;
-        for (const lut::MaskMode mode : modes) configs.push_back({m, mode, EmbreeRays::Single});
+      for (const EmbreeRays r : lists->embree_modes) configs.push_back({engine::Method::Embree, lut::MaskMode::Exact, r});
+      for (const engine::Method m : lists->methods) {
+        if (m == engine::Method::Embree) continue;
+        for (const lut::MaskMode mode : lists->modes) configs.push_back({m, mode, EmbreeRays::Single});
+      }
+      std::vector<engine::Engine> engines;
+      for (const Config& config : configs) {
+        Result<engine::Engine> built = engine_for(config.method, config.mode, n, radius_text);
+        if (!built) return report(built.error());
+        engines.push_back(std::move(*built));
       }
       std::vector<BenchRun> runs(configs.size());
       std::vector<MaskSet> results(configs.size());
@@ -137,32 +177,33 @@ int run_bench(const BenchOptions& options) {
       for (int repeat = 0; repeat < options.repeats; ++repeat) {
         for (std::size_t c = 0; c < configs.size(); ++c) {
           const Config& config = configs[c];
-          const lut::MaskEngine* engine = engines[static_cast<int>(config.mode)].get();
-          BackendStats stats;
-          ProgressBar bar(std::string("bench ") + method_name(config.method));
+          engine::Stats stats;
+          ProgressBar bar(std::string("bench ") + engine::method_name(config.method));
+          engine::RunOptions run;
+          run.progress = bar.callback();
+          if (options.stats) run.stats = &stats;
+          if (config.method == engine::Method::Embree) run.embree_rays = config.rays;
           const auto start = std::chrono::steady_clock::now();
-          MaskSet masks = config.method == Method::Raster
-                              ? backends->run_raster(*engine, pixels, *camera, bar.callback(), options.stats ? &stats : nullptr)
-                              : backends->run(config.method, *rays, engine, pixels.receivers, bar.callback(),
-                                              options.stats ? &stats : nullptr, config.rays);
+          Result<MaskSet> masks = engines[c].pixel_masks(*pixels, *camera, run);
           const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
           bar.finish();
-          BenchRun& run = runs[c];
-          if (repeat == 0 || seconds < run.seconds) run.seconds = seconds;
+          if (!masks) return report(masks.error());
+          BenchRun& r = runs[c];
+          if (repeat == 0 || seconds < r.seconds) r.seconds = seconds;
           if (repeat == 0) {
-            run.samples = n;
-            run.radius = rays->radius;
-            run.radius_text = radius_text;
-            run.method = method_name(config.method);
-            run.masks = config.method == Method::Embree ? embree_rays_name(config.rays) : lut::mask_mode_name(config.mode);
-            run.stats = stats;
-            results[c] = std::move(masks);
+            r.samples = n;
+            r.radius = engines[c].radius();
+            r.radius_text = radius_text;
+            r.method = engine::method_name(config.method);
+            r.masks = config.method == engine::Method::Embree ? embree_rays_name(config.rays) : lut::mask_mode_name(config.mode);
+            r.stats = stats;
+            results[c] = std::move(*masks);
           }
         }
       }
       for (std::size_t c = 0; c < configs.size(); ++c) {
         BenchRun& run = runs[c];
-        run.mrays_per_s = static_cast<double>(pixels.receivers.size()) * n / run.seconds * 1e-6;
+        run.mrays_per_s = static_cast<double>(pixels->receivers.size()) * n / run.seconds * 1e-6;
         run.speedup_vs_embree = runs[0].seconds / run.seconds;
         compare(results[0], results[c], run);
         print_bench_row(run, options.stats);

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "cli/backends.h"
+#include "engine/engine.h"
 #include "core/error.h"
 
 namespace exao::cli {
@@ -23,7 +23,7 @@ struct BenchRun {
   double identical_receivers = 0.0; // share of receivers whose AO equals Embree's
   double mean_abs_error = 0.0;      // |AO - AO_embree|
   double max_abs_error = 0.0;
-  BackendStats stats;
+  engine::Stats stats;
 };
 
 struct BenchReport {

@@ -18,8 +18,9 @@ void add_scene_options(CLI::App& app, SceneOptions& options) {
 
 void add_ray_options(CLI::App& app, RayOptions& options) {
   app.add_option("-n,--samples", options.samples, "Rays per receiver: a multiple of 32 from 32 to 1024")->capture_default_str();
-  app.add_option("-r,--radius", options.radius, "AO radius: a length, or a percentage of the bounding-box diagonal (5%)")
-      ->capture_default_str();
+  app.add_option("-r,--radius", options.radius,
+                 "AO radius: a length, or a percentage of the bounding-box diagonal (default " +
+                     std::to_string(static_cast<int>(engine::kDefaultRadius.value)) + "%)");
   app.add_option("--falloff", options.falloff, "constant, linear or quadratic")->capture_default_str();
   app.add_option("--offset", options.offset, "Ray origin offset along the normal (default 1e-4 of the diagonal)");
   app.add_option("-j,--threads", options.threads, "Worker threads (0: all cores)")->capture_default_str();
@@ -51,29 +52,7 @@ void add_method_options(CLI::App& app, MethodOptions& options) {
       ->capture_default_str();
 }
 
-Result<BackendOptions> make_backend_options(const MethodOptions& options) {
-  BackendOptions out;
-  Result<EmbreeRays> rays = parse_embree_rays(options.embree_rays);
-  if (!rays) return std::unexpected(rays.error());
-  out.embree.rays = *rays;
-  out.embree.across_receivers = !options.embree_per_receiver;
-  Result<lut::MaskMode> masks = lut::parse_mask_mode(options.masks);
-  if (!masks) return std::unexpected(masks.error());
-  out.masks = *masks;
-  out.table_resolution = options.table_resolution;
-  out.bvh.branching = options.branching;
-  out.bvh.max_leaf_size = options.leaf_size;
-  if (!(options.alpha > 0.0f)) return fail("--alpha: must be greater than 0");
-  out.raster.alpha = options.alpha;
-  return out;
-}
-
-std::unique_ptr<tbb::global_control> thread_limit(int threads) {
-  if (threads <= 0) return nullptr;
-  return std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
-}
-
-void print_stats(const BackendStats& stats) {
+void print_stats(const engine::Stats& stats) {
   if (stats.raster.receivers) std::printf("%s", raster::format_stats(stats.raster).c_str());
   const auto& t = stats.traversal;
   if (t.receivers == 0) return;
@@ -83,20 +62,28 @@ void print_stats(const BackendStats& stats) {
               static_cast<double>(t.triangles_blocking) / n);
 }
 
-Result<Scene> open_scene(const SceneOptions& options) {
-  Result<Scene> scene = exao::open_scene(options.scene);
-  if (!scene) return scene;
-  const LoadReport& r = scene->report;
-  const std::string name = options.scene;
+void print_load_report(const std::string& name, const LoadReport& r) {
   if (r.zero_area_skipped) std::fprintf(stderr, "exao: %s: skipped %zu zero-area triangles of %zu\n", name.c_str(), r.zero_area_skipped, r.triangles_read);
   if (r.non_finite_skipped) std::fprintf(stderr, "exao: %s: skipped %zu triangles with NaN or infinite vertices\n", name.c_str(), r.non_finite_skipped);
   for (const std::string& note : r.notes) std::fprintf(stderr, "exao: %s: %s\n", name.c_str(), note.c_str());
-  apply_sidedness(*scene, options.sided == "one" ? Sidedness::One : options.sided == "two" ? Sidedness::Two : Sidedness::Auto);
+}
+
+Result<Scene> open_scene(const SceneOptions& options) {
+  Result<Scene> scene = exao::open_scene(options.scene);
+  if (scene) print_load_report(options.scene, scene->report);
   return scene;
 }
 
-Result<float> parse_radius(const std::string& text, float diagonal) {
-  const bool percent = !text.empty() && text.back() == '%';
+Result<Sidedness> parse_sidedness(const std::string& text) {
+  if (text == "auto") return Sidedness::Auto;
+  if (text == "one") return Sidedness::One;
+  if (text == "two") return Sidedness::Two;
+  return fail("sidedness: must be auto, one or two, got '" + text + "'");
+}
+
+Result<engine::Length> parse_radius(const std::string& text) {
+  if (text.empty()) return engine::kDefaultRadius;
+  const bool percent = text.back() == '%';
   const std::string number = percent ? text.substr(0, text.size() - 1) : text;
   float value = 0.0f;
   std::size_t used = 0;
@@ -105,20 +92,40 @@ Result<float> parse_radius(const std::string& text, float diagonal) {
   } catch (const std::exception&) {
     used = 0;
   }
-  if (used == 0 || used != number.size()) return fail("--radius: '" + text + "' is not a length or a percentage");
-  if (!(std::isfinite(value) && value > 0.0f)) return fail("--radius: must be greater than 0, got '" + text + "'");
-  return percent ? value * 0.01f * diagonal : value;
+  if (used == 0 || used != number.size()) return fail("radius: '" + text + "' is not a length or a percentage");
+  return engine::Length{value, percent};
 }
 
-Result<ShadowRays> make_rays(const RayOptions& options, const Scene& scene) {
-  const float diagonal = scene.bounds().diagonal();
-  Result<float> radius = parse_radius(options.radius, diagonal);
+Result<engine::Options> make_options(const SceneOptions& scene, const RayOptions& rays, const MethodOptions& method) {
+  engine::Options out;
+  Result<engine::Length> radius = parse_radius(rays.radius);
   if (!radius) return std::unexpected(radius.error());
-  Result<Falloff> falloff = parse_falloff(options.falloff);
+  out.radius = *radius;
+  out.samples = rays.samples;
+  Result<Falloff> falloff = parse_falloff(rays.falloff);
   if (!falloff) return std::unexpected(falloff.error());
-  Result<SamplePattern> pattern = make_sample_pattern(options.samples, *falloff);
-  if (!pattern) return std::unexpected(pattern.error());
-  return make_shadow_rays(std::move(*pattern), *radius, options.offset.value_or(kDefaultOffsetFraction * diagonal));
+  out.falloff = *falloff;
+  out.origin_offset = rays.offset;
+  Result<Sidedness> sided = parse_sidedness(scene.sided);
+  if (!sided) return std::unexpected(sided.error());
+  out.sidedness = *sided;
+  out.threads = rays.threads;
+  Result<engine::Method> m = engine::parse_method(method.method);
+  if (!m) return std::unexpected(m.error());
+  out.method = *m;
+  Result<lut::MaskMode> masks = lut::parse_mask_mode(method.masks);
+  if (!masks) return std::unexpected(masks.error());
+  out.masks = *masks;
+  Result<EmbreeRays> embree_rays = parse_embree_rays(method.embree_rays);
+  if (!embree_rays) return std::unexpected(embree_rays.error());
+  out.embree.rays = *embree_rays;
+  out.embree.across_receivers = !method.embree_per_receiver;
+  out.table_resolution = method.table_resolution;
+  out.bvh.branching = method.branching;
+  out.bvh.max_leaf_size = method.leaf_size;
+  out.raster.alpha = method.alpha;
+  if (auto ok = engine::check_options(out); !ok) return std::unexpected(ok.error());
+  return out;
 }
 
 Result<Camera> choose_camera(const CameraOptions& options, const Scene& scene) {
@@ -165,11 +172,6 @@ Result<void> check_output(const std::string& output, const std::string& input) {
     return fail(output + ": is the input scene; refusing to overwrite it");
   }
   return {};
-}
-
-int report(const Error& error) {
-  std::fprintf(stderr, "exao: %s\n", error.message.c_str());
-  return 1;
 }
 
 }  // namespace exao::cli

@@ -1,5 +1,6 @@
 #pragma once
-// Options several subcommands share, parsed into plain structs and turned into library inputs.
+// Options several subcommands share, parsed into plain structs and turned into the library
+// engine's one Options (engine/options.h), which checks them.
 
 #include <optional>
 #include <string>
@@ -10,11 +11,8 @@
 #include "core/camera.h"
 #include "core/error.h"
 #include "core/scene.h"
-#include "core/shadow_rays.h"
-#include "cli/backends.h"
-
-#include <memory>
-#include <tbb/global_control.h>
+#include "cli/option_flags.h"
+#include "engine/engine.h"
 
 namespace exao::cli {
 
@@ -24,8 +22,8 @@ struct SceneOptions {
 };
 
 struct RayOptions {
-  int samples = 128;
-  std::string radius = "5%";   // a length, or a percentage of the bounding-box diagonal
+  int samples = engine::Options{}.samples;
+  std::string radius;          // a length, or a percentage of the diagonal; empty: the engine's default
   std::string falloff = "constant";
   std::optional<float> offset; // origin offset; default 1e-4 of the diagonal
   int threads = 0;             // 0: all cores
@@ -40,15 +38,16 @@ struct CameraOptions {
   std::optional<int> height;   // default: width / the camera's aspect, or 480
 };
 
+// Defaults are the engine's (engine::Options), as text.
 struct MethodOptions {
-  std::string method = "bvh";  // embree | brute | bvh | raster
-  std::string masks = "lut";   // lut | exact
-  std::string embree_rays = "packet16";
-  bool embree_per_receiver = false;  // packets of one receiver's samples instead of one sample of neighbours
-  int table_resolution = 0;    // 0: the default for N
-  int branching = 4;
-  int leaf_size = 8;
-  float alpha = 0.2f;           // raster: R / r above which a triangle gets a prism, else a billboard
+  std::string method = engine::method_name(engine::Options{}.method);
+  std::string masks = lut::mask_mode_name(engine::Options{}.masks);
+  std::string embree_rays = embree_rays_name(engine::Options{}.embree.rays);
+  bool embree_per_receiver = !engine::Options{}.embree.across_receivers;
+  int table_resolution = engine::Options{}.table_resolution;
+  int branching = engine::Options{}.bvh.branching;
+  int leaf_size = engine::Options{}.bvh.max_leaf_size;
+  float alpha = engine::Options{}.raster.alpha;
 };
 
 void add_scene_options(CLI::App& app, SceneOptions& options);
@@ -56,14 +55,20 @@ void add_ray_options(CLI::App& app, RayOptions& options);
 void add_camera_options(CLI::App& app, CameraOptions& options);
 void add_method_options(CLI::App& app, MethodOptions& options);
 
-/// Opens the scene, applies --sided and prints what the loader skipped (one line each) to stderr.
+/// Opens the scene and prints what the loader skipped (one line each) to stderr.
 [[nodiscard]] Result<Scene> open_scene(const SceneOptions& options);
+/// Prints the loader's notes about `name` (skipped triangles, and the rest) to stderr.
+void print_load_report(const std::string& name, const LoadReport& report);
 
-/// "0.5" is a length; "5%" is 5 percent of `diagonal`.
-[[nodiscard]] Result<float> parse_radius(const std::string& text, float diagonal);
+/// "0.5" is a length; "5%" is 5 percent of the diagonal; "" the engine's default. Syntax only:
+/// the engine checks the value.
+[[nodiscard]] Result<engine::Length> parse_radius(const std::string& text);
+[[nodiscard]] Result<Sidedness> parse_sidedness(const std::string& text);
 
-/// The pattern and radius of section 1, for this scene.
-[[nodiscard]] Result<ShadowRays> make_rays(const RayOptions& options, const Scene& scene);
+/// The engine's options from the parsed flags, checked (engine::check_options): errors name
+/// the option (report() prints its flag).
+[[nodiscard]] Result<engine::Options> make_options(const SceneOptions& scene, const RayOptions& rays,
+                                                   const MethodOptions& method);
 
 /// --camera, else --eye/--target, else the file's first camera, else a view framing the scene.
 [[nodiscard]] Result<Camera> choose_camera(const CameraOptions& options, const Scene& scene);
@@ -72,16 +77,7 @@ void add_method_options(CLI::App& app, MethodOptions& options);
 /// Refuses an output path that names the input file (inputs are never overwritten).
 [[nodiscard]] Result<void> check_output(const std::string& output, const std::string& input);
 
-/// The backend settings of --masks, --embree-rays, --table-resolution and --branching.
-[[nodiscard]] Result<BackendOptions> make_backend_options(const MethodOptions& options);
-
-/// Caps TBB's worker threads when threads > 0; keep the result alive while working.
-[[nodiscard]] std::unique_ptr<tbb::global_control> thread_limit(int threads);
-
-/// Prints BVH work counters per receiver.
-void print_stats(const BackendStats& stats);
-
-/// Prints "exao: <message>" on stderr and returns the exit status for bad input.
-int report(const Error& error);
+/// Prints the work counters: per receiver (bvh), and the culling stages (raster).
+void print_stats(const engine::Stats& stats);
 
 }  // namespace exao::cli

@@ -5,13 +5,17 @@
 
 #include "cli/commands.h"
 #include "cli/common_options.h"
+#include "engine/options.h"
 
 namespace exao::cli {
 namespace {
 
 int run_info(const SceneOptions& options) {
+  Result<Sidedness> sided = parse_sidedness(options.sided);
+  if (!sided) return report(sided.error());
   Result<Scene> scene = open_scene(options);
   if (!scene) return report(scene.error());
+  apply_sidedness(*scene, *sided);
   const Bounds bounds = scene->bounds();
   const std::size_t two = two_sided_count(*scene);
   std::printf("scene        %s\n", options.scene.c_str());
@@ -25,8 +29,9 @@ int run_info(const SceneOptions& options) {
   for (std::size_t i = 0; i < scene->cameras.size(); ++i) {
     std::printf("  %zu: %s\n", i, scene->cameras[i].name.c_str());
   }
-  // 5% of the diagonal shows contact shadows and creases without darkening whole rooms.
-  std::printf("radius       %g (5%% of the diagonal; --radius 5%%)\n", double(0.05f * bounds.diagonal()));
+  const engine::Length radius = engine::kDefaultRadius;
+  std::printf("radius       %g (the default: %g%% of the diagonal)\n", double(radius.resolve(bounds.diagonal())),
+              double(radius.value));
   return 0;
 }
 

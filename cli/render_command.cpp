@@ -4,15 +4,12 @@
 #include <cstdio>
 #include <memory>
 
-#include <tbb/global_control.h>
-
-#include "cli/backends.h"
 #include "cli/commands.h"
 #include "cli/common_options.h"
 #include "cli/progress_bar.h"
 #include "core/image_io.h"
 #include "core/pixel_receivers.h"
-#include "raster/gbuffer.h"
+#include "engine/engine.h"
 
 namespace exao::cli {
 namespace {
@@ -45,60 +42,46 @@ AoImage to_image(const PixelReceivers& pixels, const MaskSet& masks, bool counts
 }
 
 int run_render(const RenderOptions& options) {
-  const auto threads = thread_limit(options.rays.threads);
   if (auto ok = check_output(options.output, options.scene.scene); !ok) return report(ok.error());
   if (auto ok = check_output(options.png, options.scene.scene); !ok) return report(ok.error());
-  Result<Method> method = parse_method(options.method.method);
-  if (!method) return report(method.error());
-  Result<BackendOptions> backend_options = make_backend_options(options.method);
-  if (!backend_options) return report(backend_options.error());
+  Result<engine::Options> engine_options = make_options(options.scene, options.rays, options.method);
+  if (!engine_options) return report(engine_options.error());
+  if (auto ok = engine::check_serves(*engine_options, engine::Receivers::Pixels); !ok) return report(ok.error());
 
   Result<Scene> scene = open_scene(options.scene);
   if (!scene) return report(scene.error());
-  Result<ShadowRays> rays = make_rays(options.rays, *scene);
-  if (!rays) return report(rays.error());
   Result<Camera> camera = choose_camera(options.camera, *scene);
   if (!camera) return report(camera.error());
   Result<int> height = image_height(options.camera, *camera);
   if (!height) return report(height.error());
-  const Method methods[] = {*method};
-  Result<Backends> backends = Backends::prepare(*scene, methods, *backend_options);
-  if (!backends) return report(backends.error());
-  std::optional<lut::MaskEngine> engine;
-  if (*method != Method::Embree) {
-    Result<lut::MaskEngine> built = backends->engine(*rays, backend_options->masks);
-    if (!built) return report(built.error());
-    engine = std::move(*built);
-  }
+  Result<engine::Engine> engine = engine::Engine::build(*scene, *engine_options, engine::Receivers::Pixels);
+  if (!engine) return report(engine.error());
 
-  // Primary visibility: Embree's, or the raster backend's own G-buffer.
-  PixelReceivers pixels;
-  if (*method != Method::Raster) pixels = pixel_receivers(backends->embree(), *scene, *camera, options.camera.width, *height);
+  engine::Stats stats;
+  Result<engine::PixelResult> result;
   const auto start = std::chrono::steady_clock::now();
-  MaskSet masks;
-  BackendStats stats;
   {
     ProgressBar bar("render");
-    if (*method == Method::Raster) {
-      pixels = raster::raster_pixel_receivers(*scene, *camera, options.camera.width, *height);
-      masks = backends->run_raster(*engine, pixels, *camera, bar.callback(), options.stats ? &stats : nullptr);
-    } else {
-      masks = backends->run(*method, *rays, engine ? &*engine : nullptr, pixels.receivers, bar.callback(),
-                            options.stats ? &stats : nullptr);
-    }
+    engine::RunOptions run;
+    run.progress = bar.callback();
+    if (options.stats) run.stats = &stats;
+    result = engine->render(*camera, options.camera.width, *height, run);
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (!result) return report(result.error());
 
-  const AoImage image = to_image(pixels, masks, options.counts);
+  const PixelReceivers& pixels = result->pixels;
+  const AoImage image = to_image(pixels, result->masks, options.counts);
   if (auto ok = write_exr(image, options.output); !ok) return report(ok.error());
   if (!options.png.empty()) {
     if (auto ok = write_png(image, options.png); !ok) return report(ok.error());
   }
-  const double mrays = static_cast<double>(pixels.receivers.size()) * rays->count() / seconds * 1e-6;
+  const double mrays = static_cast<double>(pixels.receivers.size()) * engine->samples() / seconds * 1e-6;
   std::printf("%s: %zu triangles, %dx%d, %zu receivers, N=%d, r=%g, %s: %.3f s (%.1f Mrays/s) -> %s%s%s\n",
               options.scene.scene.c_str(), scene->triangle_count(), pixels.width, pixels.height,
-              pixels.receivers.size(), rays->count(), static_cast<double>(rays->radius), method_name(*method), seconds,
-              mrays, options.output.c_str(), options.png.empty() ? "" : ", ", options.png.c_str());
+              pixels.receivers.size(), engine->samples(), static_cast<double>(engine->radius()),
+              engine::method_name(engine->method()), seconds, mrays, options.output.c_str(),
+              options.png.empty() ? "" : ", ", options.png.c_str());
   if (options.stats) print_stats(stats);
   return 0;
 }

@@ -57,7 +57,10 @@ EXAO_API const char* exao_version(void);
 
 /* --- Options ------------------------------------------------------------------------------ */
 
-typedef enum exao_backend { EXAO_BACKEND_BVH = 0, EXAO_BACKEND_BRUTE = 1, EXAO_BACKEND_EMBREE = 2 } exao_backend;
+/* RASTER serves only a camera's pixels (exao render, bench): engines refuse it (INVALID_ARGUMENT). */
+typedef enum exao_backend {
+  EXAO_BACKEND_BVH = 0, EXAO_BACKEND_BRUTE = 1, EXAO_BACKEND_EMBREE = 2, EXAO_BACKEND_RASTER = 3
+} exao_backend;
 typedef enum exao_mask_mode { EXAO_MASKS_LUT = 0, EXAO_MASKS_EXACT = 1 } exao_mask_mode;
 typedef enum exao_falloff { EXAO_FALLOFF_CONSTANT = 0, EXAO_FALLOFF_LINEAR = 1, EXAO_FALLOFF_QUADRATIC = 2 } exao_falloff;
 typedef enum exao_sidedness { EXAO_SIDED_AUTO = 0, EXAO_SIDED_ONE = 1, EXAO_SIDED_TWO = 2 } exao_sidedness;

@@ -216,13 +216,16 @@ struct SceneData {
 
 // --- Options ----------------------------------------------------------------------------------
 
-/// Which algorithm computes the masks. All three give the same AO up to the mask mode's
-/// tolerance (bvh and brute are bit-identical to each other; with MaskMode::Exact they agree
-/// with embree on at least 99.99% of rays, only rays grazing an edge may differ).
+/// Which algorithm computes the masks. The three that serve any point give the same AO up to the
+/// mask mode's tolerance (bvh and brute are bit-identical to each other; with MaskMode::Exact
+/// they agree with embree on at least 99.99% of rays, only rays grazing an edge may differ).
 enum class Backend : int {
   Bvh = 0,     // paper Sec. 5: BVH traversal with occlusion-ordered culling; the fast default
   Brute = 1,   // OR of every nearby triangle's mask: the slow definition bvh reproduces
   Embree = 2,  // N rtcOccluded rays per receiver: the reference ray caster
+  Raster = 3,  // paper Sec. 4: serves only the pixels of a camera image (the exao program's
+               // render and bench), never arbitrary points: Engine::build refuses it with
+               // InvalidArgument naming options.backend
 };
 
 /// Where the plane masks of bvh and brute come from (ignored by embree).

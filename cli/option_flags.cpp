@@ -1,0 +1,54 @@
+#include "cli/option_flags.h"
+
+#include <array>
+#include <cstdio>
+
+namespace exao::cli {
+namespace {
+
+constexpr std::array<std::pair<std::string_view, std::string_view>, 20> kFlags{{
+    // engine::Options
+    {"radius", "--radius"},
+    {"samples", "--samples"},
+    {"falloff", "--falloff"},
+    {"origin_offset", "--offset"},
+    {"sidedness", "--sided"},
+    {"method", "--method"},
+    {"masks", "--masks"},
+    {"threads", "--threads"},
+    {"table_resolution", "--table-resolution"},
+    {"bvh.branching", "--branching"},
+    {"bvh.max_leaf_size", "--leaf-size"},
+    {"raster.alpha", "--alpha"},
+    {"embree.rays", "--embree-rays"},
+    {"embree.across_receivers", "--embree-per-receiver"},
+    // bake::BakeOptions
+    {"texture_size", "--texture"},
+    {"texel_samples", "--texel-samples"},
+    {"margin", "--margin"},
+    {"uv_set", "--uv-set"},
+    {"normals", "--normals"},
+    {"png_bits", "--png-bits"},
+}};
+
+}  // namespace
+
+std::string with_flags(const std::string& message, const FlagOverrides& overrides) {
+  const std::size_t colon = message.find(':');
+  if (colon == std::string::npos) return message;
+  const std::string_view head = std::string_view(message).substr(0, colon);
+  for (const auto& [option, flag] : overrides) {
+    if (head == option) return std::string(flag) + message.substr(colon);
+  }
+  for (const auto& [option, flag] : kFlags) {
+    if (head == option) return std::string(flag) + message.substr(colon);
+  }
+  return message;
+}
+
+int report(const Error& error, const FlagOverrides& overrides) {
+  std::fprintf(stderr, "exao: %s\n", with_flags(error.message, overrides).c_str());
+  return 1;
+}
+
+}  // namespace exao::cli
