@@ -11,6 +11,7 @@
 #include "bake/document_impl.h"
 #include "bake/gltf_access.h"
 #include "bake/scene_to_gltf.h"
+#include "core/gltf_file.h"
 #include "core/load_scene.h"
 
 namespace exao::bake {
@@ -32,27 +33,14 @@ bool keep_image_bytes(tinygltf::Image*, const int index, std::string*, std::stri
   return true;
 }
 
-bool starts_with_glb_magic(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::array<char, 4> magic{};
-  in.read(magic.data(), magic.size());
-  return in.gcount() == 4 && std::memcmp(magic.data(), "glTF", 4) == 0;
-}
-
 bool is_data_uri(const std::string& uri) { return uri.rfind("data:", 0) == 0; }
 
 Result<std::unique_ptr<Document::Impl>> read_gltf(const std::string& path) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) return fail("no such file");
   auto impl = std::make_unique<Document::Impl>();
-  tinygltf::TinyGLTF context;
-  context.SetImageLoader(&keep_image_bytes, &impl->image_bytes);
-  std::string err;
-  std::string warn;
-  const bool binary = starts_with_glb_magic(path);
-  const bool ok = binary ? context.LoadBinaryFromFile(&impl->model, &err, &warn, path)
-                         : context.LoadASCIIFromFile(&impl->model, &err, &warn, path);
-  if (!ok) return fail(one_line(err));
+  Result<tinygltf::Model> model = gltf::read_file(path, &keep_image_bytes, &impl->image_bytes);
+  if (!model) return std::unexpected(model.error());
+  impl->model = std::move(*model);
+  const bool binary = gltf::is_glb(path);
   impl->image_bytes.resize(impl->model.images.size());
   auto walk = walk_model(impl->model);
   if (!walk) return std::unexpected(walk.error());
@@ -120,16 +108,9 @@ Result<Document> Document::open(const std::string& name_or_path, const ConvertOp
     if (document && !builtin) document->impl_->input_files.push_back(name_or_path);
     return document;
   }
-  Result<std::unique_ptr<Impl>> impl;
-  // tinygltf and the standard library may throw (bad_alloc on a hostile count, json errors).
-  try {
-    impl = read_gltf(name_or_path);
-  } catch (const std::exception& e) {
-    impl = fail(one_line(e.what()));
-  } catch (...) {
-    impl = fail("unknown error while reading glTF");
-  }
-  if (!impl) return fail(name_or_path + ": " + impl.error().message);
+  Result<std::unique_ptr<Impl>> impl =
+      gltf::read_guarded<std::unique_ptr<Impl>>(name_or_path, [&] { return read_gltf(name_or_path); });
+  if (!impl) return std::unexpected(impl.error());
   (*impl)->name = std::filesystem::path(name_or_path).stem().string();
   (*impl)->walk.scene.name = (*impl)->name;
   return Document(std::move(*impl));

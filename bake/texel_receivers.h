@@ -1,5 +1,5 @@
 #pragma once
-// Texel receivers for one AO map (issue 6, item 2): the triangles of the meshes that share the
+// Texel receivers for one AO map: the triangles of the meshes that share the
 // map are rasterised conservatively in UV space; each texel they touch gets receivers at
 // several sample points inside it, with position and normal interpolated from the triangle
 // under the sample. The texel's AO is then the mean AO of its receivers.

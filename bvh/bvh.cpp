@@ -101,7 +101,7 @@ class Flattener {
  private:
   // A sphere around the box centre holding every triangle sphere of the subtree (tighter than
   // the box's circumsphere), radius rounded up past the float centre: the region mask of this
-  // sphere must contain those of the triangles' spheres (lut/cone_test.h, nesting).
+  // sphere must contain those of the triangles' spheres (lut/sphere_test.h, nesting).
   Sphere enclosing_sphere(const RTCBounds& b, std::size_t first, std::size_t last) const {
     const glm::vec3 centre_f(0.5f * (b.lower_x + b.upper_x), 0.5f * (b.lower_y + b.upper_y), 0.5f * (b.lower_z + b.upper_z));
     const glm::dvec3 centre(centre_f);

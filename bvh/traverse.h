@@ -6,7 +6,7 @@
 //    triangles whose mask is empty (triangle_mask's steps 5 and 1);
 //  - a child whose sphere mask adds no ray to the cumulative mask holds only triangles whose
 //    masks add none either (each triangle mask is clipped by its own sphere's mask, which the
-//    child's contains: lut/cone_test.h);
+//    child's contains: lut/sphere_test.h);
 //  - children are visited largest estimate first, so occlusion builds up early;
 //  - traversal stops when every ray is blocked.
 

@@ -1,4 +1,4 @@
-// Vertex bakes (issue 6, item 1): the analytic answer of plane-pair, what lands in COLOR_0 and
+// Vertex bakes: the analytic answer of plane-pair, what lands in COLOR_0 and
 // _AO, an existing COLOR_0 multiplied, meshes split per node where their AO differs.
 
 #include <gtest/gtest.h>
@@ -11,7 +11,7 @@
 #include "bake/bake.h"
 #include "bake/document.h"
 #include "bake/save.h"
-#include "bvh/occlusion.h"
+#include "engine/engine.h"
 #include "core/shadow_rays.h"
 #include "lut/mask_engine.h"
 #include "lut/triangle_set.h"
@@ -20,26 +20,23 @@
 namespace exao {
 namespace {
 
-// The default backend (bvh, LUT masks) as the bake's AO function.
+// The default backend (bvh) through the library engine, as `exao bake` runs it.
 struct BvhAo {
-  ShadowRays rays;
-  lut::MaskEngine engine;
-  bvh::Bvh tree;
+  engine::Engine engine;
 
-  BvhAo(const Scene& scene, float radius, int samples, lut::MaskMode mode = lut::MaskMode::Lut) {
-    rays = *make_shadow_rays(*make_sample_pattern(samples, Falloff::Constant), radius,
-                             kDefaultOffsetFraction * scene.bounds().diagonal());
-    engine = *lut::MaskEngine::build(rays, mode);
-    tree = *bvh::Bvh::build(lut::TriangleSet::build(scene));
+  BvhAo(const Scene& scene, float radius, int samples, lut::MaskMode mode = lut::MaskMode::Lut)
+      : engine(build(scene, radius, samples, mode)) {}
+  static engine::Engine build(const Scene& scene, float radius, int samples, lut::MaskMode mode) {
+    engine::Options options;
+    options.radius = {radius, false};
+    options.samples = samples;
+    options.masks = mode;
+    Result<engine::Engine> built = engine::Engine::build(scene, options, engine::Receivers::Points);
+    EXPECT_TRUE(built) << built.error().message;
+    return std::move(*built);
   }
-  bake::AoFunction function() const {
-    return [this](std::span<const Receiver> receivers, const ProgressCallback&) {
-      const MaskSet masks = bvh::occlusion(tree, engine, receivers);
-      std::vector<float> ao(masks.size());
-      for (std::size_t i = 0; i < ao.size(); ++i) ao[i] = masks.ao(i);
-      return ao;
-    };
-  }
+  std::vector<float> operator()(std::span<const Receiver> receivers) const { return *engine.ao(receivers); }
+  const engine::Engine& function() const { return engine; }
 };
 
 tinygltf::Model load(const std::filesystem::path& path) {
@@ -79,7 +76,7 @@ TEST(BakeVertex, PlanePairMatchesTheAnalyticAnswer) {
   // one tests/embree_reference_test.cpp derives for a stratified pattern: a few of the ~sqrt(N)
   // points along the boundary circle fall either way, 1.5 / sqrt(N) per receiver; the jittered
   // frames average it away, so the mean is four times tighter.
-  const double h = 0.5 - static_cast<double>(ao.rays.origin_offset);
+  const double h = 0.5 - static_cast<double>(ao.engine.rays().origin_offset);
   const double expected = h * h;
   const double sampling_error = 1.5 / std::sqrt(128.0);
   std::size_t checked = 0;

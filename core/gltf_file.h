@@ -1,0 +1,42 @@
+#pragma once
+// exao::gltf::read_file: a .gltf or .glb file into a tinygltf Model, for the scene loader and the
+// bake alike. Internal: it exposes tinygltf (core/gltf_model.h).
+
+#include <tiny_gltf.h>
+
+#include <exception>
+#include <string>
+
+#include "core/error.h"
+#include "core/gltf_model.h"
+
+namespace exao::gltf {
+
+/// Reads `path`, told a .glb by its magic bytes rather than its name (a mislabelled file still
+/// loads); `images` decides what happens to each image's bytes (tinygltf's image callback, with
+/// `user`). Fails with one line, without the file name (the caller adds it): no such file, or
+/// tinygltf's own message. May throw what tinygltf throws (bad_alloc, json errors).
+[[nodiscard]] Result<tinygltf::Model> read_file(const std::string& path, tinygltf::LoadImageDataFunction images,
+                                                void* user);
+
+/// Whether the file starts with the GLB magic "glTF".
+[[nodiscard]] bool is_glb(const std::string& path);
+
+/// body() -> Result<T>, with any exception tinygltf or the standard library throws (bad_alloc on
+/// a hostile count, json errors) turned into an error: none leaves a glTF reader. An error's
+/// message gets the file name in front.
+template <class T, class Body>
+[[nodiscard]] Result<T> read_guarded(const std::string& path, Body&& body) {
+  Result<T> out = fail("unknown error while reading glTF");
+  try {
+    out = body();
+  } catch (const std::exception& e) {
+    out = fail(one_line(e.what()));
+  } catch (...) {
+    out = fail("unknown error while reading glTF");
+  }
+  if (!out) return fail(path + ": " + out.error().message);
+  return out;
+}
+
+}  // namespace exao::gltf
