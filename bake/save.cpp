@@ -111,31 +111,9 @@ std::string mime_for(const std::string& uri) {
   return "";
 }
 
-}  // namespace
-
-Result<std::vector<std::string>> planned_outputs(const Document& document, const BakeResult* result,
-                                                 const SaveOptions& options) {
-  auto paths = paths_for(document, result, options);
-  if (!paths) return std::unexpected(paths.error());
-  std::vector<std::string> out = all(*paths);
-  for (const std::string& path : out) {
-    if (auto ok = check_not_input(document, path); !ok) return std::unexpected(ok.error());
-  }
-  return out;
-}
-
-Result<std::vector<std::string>> save(const Document& document, const BakeResult& result, const SaveOptions& options,
-                                      std::vector<std::string>& notes) {
-  auto checked = planned_outputs(document, &result, options);
-  if (!checked) return std::unexpected(checked.error());
-  auto paths_or = paths_for(document, &result, options);
-  if (!paths_or) return std::unexpected(paths_or.error());
-  const Paths& paths = *paths_or;
-  const Document::Impl& doc = document.impl();
-  tinygltf::Model model = doc.model;
-  std::vector<std::string> written;
-
-  // The maps first: PNG (also embedded in a .glb) and EXR.
+// Step 1: the maps as PNG (also embedded in a .glb) and OpenEXR; returns each map's PNG bytes.
+Result<std::vector<std::vector<std::uint8_t>>> write_maps(const BakeResult& result, const Paths& paths,
+                                                          const SaveOptions& options, std::vector<std::string>& written) {
   std::vector<std::vector<std::uint8_t>> map_png(result.maps.size());
   for (std::size_t m = 0; m < result.maps.size(); ++m) {
     const AoMap& map = result.maps[m];
@@ -152,33 +130,59 @@ Result<std::vector<std::string>> save(const Document& document, const BakeResult
     if (auto ok = write_exr(exr, paths.exr[m]); !ok) return std::unexpected(ok.error());
     written.push_back(paths.exr[m]);
   }
+  return map_png;
+}
 
-  // One buffer: every input buffer, 16-byte aligned so that each view keeps its alignment.
-  std::vector<unsigned char> merged;
-  std::vector<std::size_t> base(model.buffers.size(), 0);
-  for (std::size_t b = 0; b < model.buffers.size(); ++b) {
-    merged.resize((merged.size() + 15) / 16 * 16, 0);
-    base[b] = merged.size();
-    merged.insert(merged.end(), model.buffers[b].data.begin(), model.buffers[b].data.end());
-  }
-  for (tinygltf::BufferView& view : model.bufferViews) {
-    if (view.buffer >= 0 && static_cast<std::size_t>(view.buffer) < base.size()) {
-      view.byteOffset += base[static_cast<std::size_t>(view.buffer)];
-      view.buffer = 0;
+// Step 2: one buffer holding every input buffer, 16-byte aligned so that each view keeps its
+// alignment, and views appended to it.
+class MergedBuffer {
+ public:
+  explicit MergedBuffer(tinygltf::Model& model) : model_(model) {
+    std::vector<std::size_t> base(model.buffers.size(), 0);
+    for (std::size_t b = 0; b < model.buffers.size(); ++b) {
+      bytes_.resize((bytes_.size() + 15) / 16 * 16, 0);
+      base[b] = bytes_.size();
+      bytes_.insert(bytes_.end(), model.buffers[b].data.begin(), model.buffers[b].data.end());
+    }
+    for (tinygltf::BufferView& view : model.bufferViews) {
+      if (view.buffer >= 0 && static_cast<std::size_t>(view.buffer) < base.size()) {
+        view.byteOffset += base[static_cast<std::size_t>(view.buffer)];
+        view.buffer = 0;
+      }
     }
   }
-  const auto add_view = [&](std::span<const std::uint8_t> bytes) {
-    merged.resize((merged.size() + 3) / 4 * 4, 0);
+
+  /// A new view of `bytes`, 4-byte aligned; its index.
+  int add_view(std::span<const std::uint8_t> bytes) {
+    bytes_.resize((bytes_.size() + 3) / 4 * 4, 0);
     tinygltf::BufferView view;
     view.buffer = 0;
-    view.byteOffset = merged.size();
+    view.byteOffset = bytes_.size();
     view.byteLength = bytes.size();
-    merged.insert(merged.end(), bytes.begin(), bytes.end());
-    model.bufferViews.push_back(view);
-    return static_cast<int>(model.bufferViews.size() - 1);
-  };
+    bytes_.insert(bytes_.end(), bytes.begin(), bytes.end());
+    model_.bufferViews.push_back(view);
+    return static_cast<int>(model_.bufferViews.size() - 1);
+  }
 
-  // Images: the input's as they were, the maps as new ones.
+  /// The model's buffers become this one (none when nothing refers to a buffer).
+  void install() {
+    tinygltf::Buffer buffer;
+    buffer.data = std::move(bytes_);
+    model_.buffers.clear();
+    if (!buffer.data.empty() || !model_.bufferViews.empty()) model_.buffers.push_back(std::move(buffer));
+  }
+
+ private:
+  tinygltf::Model& model_;
+  std::vector<unsigned char> bytes_;
+};
+
+// Step 3: the input's images as they were (embedded in a .glb, kept or copied beside a .gltf),
+// and the maps as new ones.
+Result<void> place_images(const Document& document, const BakeResult& result, const Paths& paths,
+                          const std::vector<std::vector<std::uint8_t>>& map_png, tinygltf::Model& model,
+                          MergedBuffer& buffer, std::vector<std::string>& written, std::vector<std::string>& notes) {
+  const Document::Impl& doc = document.impl();
   const fs::path out_folder = fs::path(paths.gltf).parent_path();
   std::error_code ec;
   const bool same_folder = fs::equivalent(out_folder.empty() ? fs::path(".") : out_folder,
@@ -190,7 +194,7 @@ Result<std::vector<std::string>> save(const Document& document, const BakeResult
     if (image.uri.empty()) {              // a data: URI, decoded by the reader
       if (bytes.empty()) continue;
       if (paths.binary) {
-        image.bufferView = add_view(bytes);
+        image.bufferView = buffer.add_view(bytes);
       } else {
         image.uri = "data:" + (image.mimeType.empty() ? std::string("image/png") : image.mimeType) + ";base64," + base64(bytes);
       }
@@ -199,7 +203,7 @@ Result<std::vector<std::string>> save(const Document& document, const BakeResult
     if (bytes.empty()) continue;  // missing beside the input: the reference stays (Document notes it)
     const std::string mime = mime_for(image.uri);
     if (paths.binary && !mime.empty()) {
-      image.bufferView = add_view(bytes);
+      image.bufferView = buffer.add_view(bytes);
       image.mimeType = mime;
       image.uri.clear();
       continue;
@@ -220,7 +224,7 @@ Result<std::vector<std::string>> save(const Document& document, const BakeResult
   for (std::size_t m = 0; m < result.maps.size(); ++m) {
     tinygltf::Image& image = model.images[static_cast<std::size_t>(result.maps[m].image)];
     if (paths.binary) {
-      image.bufferView = add_view(map_png[m]);
+      image.bufferView = buffer.add_view(map_png[m]);
       image.mimeType = "image/png";
       image.uri.clear();
     } else {
@@ -228,19 +232,13 @@ Result<std::vector<std::string>> save(const Document& document, const BakeResult
       image.mimeType.clear();
     }
   }
+  return {};
+}
 
-  tinygltf::Buffer buffer;
-  buffer.data = std::move(merged);
-  model.buffers.clear();
-  if (!buffer.data.empty() || !model.bufferViews.empty()) model.buffers.push_back(std::move(buffer));
-
-  // The glTF itself: tinygltf writes the JSON (with the buffer left empty), which is then put
-  // right where tinygltf 2.7 gets it wrong (it writes "zfar": 0 for an infinite projection, which
-  // glTF forbids), pointed at its buffer, and wrapped in a GLB container when asked for.
-  const bool embed = !paths.binary && paths.bin.empty();
-  std::vector<unsigned char> bin;
-  if (!embed && !model.buffers.empty()) bin = std::move(model.buffers[0].data);
-  if (!embed && !model.buffers.empty()) model.buffers[0].data.clear();
+// Step 4: the glTF JSON. tinygltf writes it (with the buffer left empty); it is then put right
+// where tinygltf 2.7 gets it wrong (it writes "zfar": 0 for an infinite projection, which glTF
+// forbids) and pointed at its buffer of `bin_size` bytes (none when embedded).
+Result<nlohmann::ordered_json> model_json(tinygltf::Model& model, const Paths& paths, bool embed, std::size_t bin_size) {
   tinygltf::TinyGLTF writer;
   writer.SetImageWriter(&keep_uri, nullptr);
   std::ostringstream stream;
@@ -259,46 +257,92 @@ Result<std::vector<std::string>> save(const Document& document, const BakeResult
   }
   if (!embed && json.contains("buffers") && !json["buffers"].empty()) {
     auto& entry = json["buffers"][0];
-    entry["byteLength"] = bin.size();
+    entry["byteLength"] = bin_size;
     if (paths.binary) {
       entry.erase("uri");
     } else {
       entry["uri"] = fs::path(paths.bin).filename().string();
     }
   }
+  return json;
+}
+
+// Step 5: the file's bytes: GLB (glTF 2.0 section 4.4: a 12-byte header, a JSON chunk padded
+// with spaces, a BIN chunk padded with zeros, every chunk 4-byte aligned), or the JSON text.
+Result<std::vector<std::uint8_t>> file_bytes(const nlohmann::ordered_json& json, const Paths& paths,
+                                             std::vector<unsigned char> bin) {
   std::vector<std::uint8_t> file;
-  if (paths.binary) {
-    // GLB (glTF 2.0 section 4.4): a 12-byte header, a JSON chunk padded with spaces, a BIN chunk
-    // padded with zeros, every chunk 4-byte aligned.
-    std::string text = json.dump();
-    text.resize((text.size() + 3) / 4 * 4, ' ');
-    bin.resize((bin.size() + 3) / 4 * 4, 0);
-    const auto put32 = [&](std::uint32_t v) {
-      for (int k = 0; k < 4; ++k) file.push_back(static_cast<std::uint8_t>(v >> (8 * k)));
-    };
-    const std::size_t total = 12 + 8 + text.size() + (bin.empty() ? 0 : 8 + bin.size());
-    if (total > 0xffffffffu) return fail(paths.gltf + ": too large for a .glb (4 GiB); write a .gltf");
-    put32(0x46546C67u);  // "glTF"
-    put32(2);
-    put32(static_cast<std::uint32_t>(total));
-    put32(static_cast<std::uint32_t>(text.size()));
-    put32(0x4E4F534Au);  // "JSON"
-    file.insert(file.end(), text.begin(), text.end());
-    if (!bin.empty()) {
-      put32(static_cast<std::uint32_t>(bin.size()));
-      put32(0x004E4942u);  // "BIN"
-      file.insert(file.end(), bin.begin(), bin.end());
-    }
-  } else {
+  if (!paths.binary) {
     const std::string text = json.dump(2) + "\n";
     file.assign(text.begin(), text.end());
+    return file;
   }
-  if (!paths.bin.empty() && !bin.empty()) {
-    if (auto ok = write_bytes(paths.bin, bin); !ok) return std::unexpected(ok.error());
-    written.push_back(paths.bin);
+  std::string text = json.dump();
+  text.resize((text.size() + 3) / 4 * 4, ' ');
+  bin.resize((bin.size() + 3) / 4 * 4, 0);
+  const auto put32 = [&](std::uint32_t v) {
+    for (int k = 0; k < 4; ++k) file.push_back(static_cast<std::uint8_t>(v >> (8 * k)));
+  };
+  const std::size_t total = 12 + 8 + text.size() + (bin.empty() ? 0 : 8 + bin.size());
+  if (total > 0xffffffffu) return fail(paths.gltf + ": too large for a .glb (4 GiB); write a .gltf");
+  put32(0x46546C67u);  // "glTF"
+  put32(2);
+  put32(static_cast<std::uint32_t>(total));
+  put32(static_cast<std::uint32_t>(text.size()));
+  put32(0x4E4F534Au);  // "JSON"
+  file.insert(file.end(), text.begin(), text.end());
+  if (!bin.empty()) {
+    put32(static_cast<std::uint32_t>(bin.size()));
+    put32(0x004E4942u);  // "BIN"
+    file.insert(file.end(), bin.begin(), bin.end());
   }
-  if (auto ok = write_bytes(paths.gltf, file); !ok) return std::unexpected(ok.error());
-  written.push_back(paths.gltf);
+  return file;
+}
+
+}  // namespace
+
+Result<std::vector<std::string>> planned_outputs(const Document& document, const BakeResult* result,
+                                                 const SaveOptions& options) {
+  auto paths = paths_for(document, result, options);
+  if (!paths) return std::unexpected(paths.error());
+  std::vector<std::string> out = all(*paths);
+  for (const std::string& path : out) {
+    if (auto ok = check_not_input(document, path); !ok) return std::unexpected(ok.error());
+  }
+  return out;
+}
+
+Result<std::vector<std::string>> save(const Document& document, const BakeResult& result, const SaveOptions& options,
+                                      std::vector<std::string>& notes) {
+  auto checked = planned_outputs(document, &result, options);
+  if (!checked) return std::unexpected(checked.error());
+  auto paths = paths_for(document, &result, options);
+  if (!paths) return std::unexpected(paths.error());
+  tinygltf::Model model = document.impl().model;
+  std::vector<std::string> written;
+
+  auto map_png = write_maps(result, *paths, options, written);
+  if (!map_png) return std::unexpected(map_png.error());
+  MergedBuffer buffer(model);
+  if (auto ok = place_images(document, result, *paths, *map_png, model, buffer, written, notes); !ok) {
+    return std::unexpected(ok.error());
+  }
+  buffer.install();
+  const bool embed = !paths->binary && paths->bin.empty();
+  std::vector<unsigned char> bin;
+  if (!embed && !model.buffers.empty()) bin = std::move(model.buffers[0].data);
+  if (!embed && !model.buffers.empty()) model.buffers[0].data.clear();
+  auto json = model_json(model, *paths, embed, bin.size());
+  if (!json) return std::unexpected(json.error());
+  // The glTF last, so that it never refers to a file that is not there yet.
+  if (!paths->bin.empty() && !bin.empty()) {
+    if (auto ok = write_bytes(paths->bin, bin); !ok) return std::unexpected(ok.error());
+    written.push_back(paths->bin);
+  }
+  auto file = file_bytes(*json, *paths, std::move(bin));
+  if (!file) return std::unexpected(file.error());
+  if (auto ok = write_bytes(paths->gltf, *file); !ok) return std::unexpected(ok.error());
+  written.push_back(paths->gltf);
   return written;
 }
 

@@ -1,7 +1,6 @@
 #include "core/sample_pattern.h"
 
 #include <algorithm>
-#include <cassert>
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -11,6 +10,7 @@
 #include <sstream>
 
 #include "core/atomic_write.h"
+#include "core/check.h"
 #include "core/random.h"
 
 namespace exao {
@@ -221,7 +221,7 @@ Result<SamplePattern> make_sample_pattern(int count, Falloff falloff, std::uint6
 }
 
 SamplePattern build_sample_pattern(int count, Falloff falloff, std::uint64_t seed) {
-  assert(check_sample_count(count).has_value());
+  EXAO_CHECK(check_sample_count(count).has_value());
   Rng rng(mix64(seed) ^ static_cast<std::uint64_t>(count));
 
   DiscLloyd lloyd(count, rng);

@@ -33,7 +33,6 @@
 // lengths differ (Sec. 5, Fig. 4, right).
 
 #include <algorithm>
-#include <cassert>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -43,6 +42,7 @@
 
 #include <glm/glm.hpp>
 
+#include "core/check.h"
 #include "core/error.h"
 #include "core/mask.h"
 #include "core/sample_pattern.h"
@@ -128,7 +128,8 @@ class PlaneTable {
   /// The mask stored in a cell. Bits must equal bits().
   template <int Bits>
   [[nodiscard]] const Mask<Bits>& cell(std::size_t index) const {
-    assert(Bits == bits_ && index < cells_);
+    EXAO_DCHECK_EQ(Bits, bits_);  // the hot loop of every mask: Debug builds only
+    EXAO_DCHECK_LT(index, cells_);
     return static_cast<const Mask<Bits>*>(base_)[index];
   }
 

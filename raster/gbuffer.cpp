@@ -2,11 +2,11 @@
 
 #include <algorithm>
 #include <array>
-#include <cassert>
 #include <cmath>
 
 #include <tbb/parallel_for.h>
 
+#include "core/check.h"
 #include "raster/projection.h"
 #include "raster/rasterizer.h"
 #include "raster/screen_polygon.h"
@@ -58,7 +58,10 @@ double scene_scale(const Scene& scene, const glm::vec3& eye) {
 }
 
 GBuffer rasterize_gbuffer(const Scene& scene, const Camera& camera, int width, int height) {
-  assert(width >= 1 && height >= 1 && width <= kMaxImageSize && height <= kMaxImageSize);
+  EXAO_CHECK_GE(width, 1);
+  EXAO_CHECK_GE(height, 1);
+  EXAO_CHECK_LE(width, kMaxImageSize);
+  EXAO_CHECK_LE(height, kMaxImageSize);
   GBuffer g;
   g.width = width;
   g.height = height;

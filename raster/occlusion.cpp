@@ -1,7 +1,6 @@
 #include "raster/occlusion.h"
 
 #include <algorithm>
-#include <cassert>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -9,6 +8,7 @@
 #include <tbb/combinable.h>
 #include <tbb/parallel_for.h>
 
+#include "core/check.h"
 #include "core/mask.h"
 #include "lut/float_mode.h"
 #include "raster/fragment_tests.h"
@@ -314,8 +314,8 @@ void render(const lut::TriangleSet& triangles, const lut::MaskEngine& engine, co
 RasterResult occlusion(const PixelReceivers& pixels, const Scene& scene, const lut::TriangleSet& triangles,
                        const lut::MaskEngine& engine, const Camera& camera, const RasterOptions& options,
                        const ProgressCallback& progress) {
-  assert(triangles.size() == scene.triangle_count());
-  assert(options.alpha > 0.0f);
+  EXAO_CHECK_EQ(triangles.size(), scene.triangle_count());
+  EXAO_CHECK_GT(options.alpha, 0.0f);
   RasterResult result;
   result.pixels = pixels;
   const std::size_t count = pixels.receivers.size();
@@ -339,7 +339,8 @@ RasterResult occlusion(const PixelReceivers& pixels, const Scene& scene, const l
   }
   std::vector<double> point_depth(count);
   for (std::size_t i = 0; i < count; ++i) {
-    assert(pixels.pixel[i] < receivers.of_pixel.size() && receivers.of_pixel[pixels.pixel[i]] < 0);
+    EXAO_CHECK_LT(pixels.pixel[i], receivers.of_pixel.size());
+    EXAO_CHECK_LT(receivers.of_pixel[pixels.pixel[i]], 0);  // at most one receiver per pixel
     receivers.of_pixel[pixels.pixel[i]] = static_cast<std::int32_t>(i);
   }
   tbb::parallel_for(std::size_t{0}, count, [&](std::size_t i) {

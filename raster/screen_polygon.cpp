@@ -1,8 +1,9 @@
 #include "raster/screen_polygon.h"
 
 #include <algorithm>
-#include <cassert>
 #include <cmath>
+
+#include "core/check.h"
 
 namespace exao::raster {
 namespace {
@@ -34,7 +35,11 @@ ScreenVertex Projection::to_screen(const ClipVertex& c) const {
 }
 
 Projection Projection::make(const Camera& camera, int width, int height, double near) {
-  assert(width >= 1 && height >= 1 && width <= kMaxImageSize && height <= kMaxImageSize && near > 0.0);
+  EXAO_CHECK_GE(width, 1);
+  EXAO_CHECK_GE(height, 1);
+  EXAO_CHECK_LE(width, kMaxImageSize);
+  EXAO_CHECK_LE(height, kMaxImageSize);
+  EXAO_CHECK_GT(near, 0.0);
   Projection p;
   // The same float quantities pixel_ray computes.
   const float tan_half = std::tan(0.5f * camera.yfov);
@@ -53,7 +58,8 @@ Projection Projection::make(const Camera& camera, int width, int height, double 
 }
 
 ScreenPolygon make_screen_polygon(const Projection& projection, std::span<const ClipVertex> clip) {
-  assert(clip.size() >= 3 && clip.size() <= static_cast<std::size_t>(ScreenPolygon::kMaxInput));
+  EXAO_CHECK_GE(clip.size(), 3u);
+  EXAO_CHECK_LE(clip.size(), ScreenPolygon::kMaxInput);
   ScreenPolygon out;
 
   // Which planes does anything cross? Most polygons are wholly inside and skip clipping.

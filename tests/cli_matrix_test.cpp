@@ -119,7 +119,7 @@ TEST(CliMatrix, ErrorsNameTheFlagAndTheValue) {
       {"render plane-pair --method fast" + out, "exao: --method: unknown method 'fast'"},
       {"render plane-pair --embree-rays packet3" + out, "exao: --embree-rays: unknown mode 'packet3'"},
       {"render plane-pair --offset -1" + out, "exao: --offset: must be a finite length >= 0"},
-      {"bench plane-pair -n 32,96 -W 8 -H 8", "exao: --samples: must be a multiple of 32 from 32 to 1024, got 96"},
+      {"bench plane-pair -n 32,100 -W 8 -H 8", "exao: --samples: must be a multiple of 32 from 32 to 1024, got 100"},
       {"bench plane-pair --methods fast -W 8 -H 8", "exao: --methods: unknown method 'fast'"},
   };
   for (const auto& c : cases) {
