@@ -14,33 +14,16 @@
 #include "bake/bake.h"
 #include "bake/document.h"
 #include "bake/save.h"
-#include "engine/engine.h"
 #include "core/shadow_rays.h"
 #include "lut/mask_engine.h"
 #include "lut/triangle_set.h"
+#include "tests/engine_ao.h"
 #include "tests/test_support.h"
 
 namespace exao {
 namespace {
 
-// The default backend (bvh) through the library engine, as `exao bake` runs it.
-struct BvhAo {
-  engine::Engine engine;
-
-  BvhAo(const Scene& scene, float radius, int samples, lut::MaskMode mode = lut::MaskMode::Lut)
-      : engine(build(scene, radius, samples, mode)) {}
-  static engine::Engine build(const Scene& scene, float radius, int samples, lut::MaskMode mode) {
-    engine::Options options;
-    options.radius = {radius, false};
-    options.samples = samples;
-    options.masks = mode;
-    Result<engine::Engine> built = engine::Engine::build(scene, options, engine::Receivers::Points);
-    EXPECT_TRUE(built) << built.error().message;
-    return std::move(*built);
-  }
-  std::vector<float> operator()(std::span<const Receiver> receivers) const { return *engine.ao(receivers); }
-  const engine::Engine& function() const { return engine; }
-};
+using test::BvhAo;
 
 // A 4 x 4 floor at y = 0 (facing up) under a ceiling at y = 1 (facing down), one primitive each.
 // The floor's UVs map x, z in [-2, 2] to [0.1, 0.9], so chart borders can cut texels in part;

@@ -9,27 +9,15 @@
 #include <cstdio>
 #include <filesystem>
 #include <string>
-#include <sys/wait.h>
 
 #include "tests/test_support.h"
 
 namespace exao {
 namespace {
 
-struct CommandResult {
-  int status;          // the exit status, or -1 when killed by a signal (a crash)
-  std::string output;  // stdout and stderr together
-};
+using test::CommandResult;
 
-CommandResult exao(const std::string& arguments) {
-  const std::string command = std::string(EXAO_BINARY) + " " + arguments + " 2>&1";
-  FILE* pipe = ::popen(command.c_str(), "r");
-  std::string output;
-  std::array<char, 4096> buffer{};
-  while (pipe && std::fgets(buffer.data(), buffer.size(), pipe)) output += buffer.data();
-  const int status = pipe ? ::pclose(pipe) : -1;
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
-}
+CommandResult exao(const std::string& arguments) { return test::run_command(std::string(EXAO_BINARY) + " " + arguments); }
 
 constexpr std::array<const char*, 4> kMethods{"embree", "brute", "bvh", "raster"};
 constexpr std::array<const char*, 2> kMasks{"lut", "exact"};

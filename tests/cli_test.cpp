@@ -7,27 +7,15 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <sys/wait.h>
 
 #include "tests/test_support.h"
 
 namespace exao {
 namespace {
 
-struct CommandResult {
-  int status;
-  std::string output;  // stdout and stderr together
-};
+using test::CommandResult;
 
-CommandResult exao(const std::string& arguments) {
-  const std::string command = std::string(EXAO_BINARY) + " " + arguments + " 2>&1";
-  FILE* pipe = ::popen(command.c_str(), "r");
-  std::string output;
-  std::array<char, 4096> buffer{};
-  while (pipe && std::fgets(buffer.data(), buffer.size(), pipe)) output += buffer.data();
-  const int status = pipe ? ::pclose(pipe) : -1;
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
-}
+CommandResult exao(const std::string& arguments) { return test::run_command(std::string(EXAO_BINARY) + " " + arguments); }
 
 // One line, naming what was wrong.
 void expect_one_line_error(const CommandResult& run, const std::string& names) {

@@ -27,6 +27,14 @@ class TempDir {
 /// Writes `contents` to `path` (binary), replacing it.
 void write_file(const std::filesystem::path& path, const std::string& contents);
 
+struct CommandResult {
+  int status;          // the exit status, or -1 when the command was killed by a signal (a crash)
+  std::string output;  // stdout and stderr together
+};
+
+/// Runs a shell command, collecting what it prints.
+[[nodiscard]] CommandResult run_command(const std::string& command);
+
 }  // namespace exao::test
 
 #define EXAO_REQUIRE_SCENE(path)                                                     \
