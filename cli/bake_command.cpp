@@ -139,8 +139,7 @@ Result<bake::Document> open_document(const BakeCommandOptions& options) {
 struct OutputPaths {
   bake::SaveOptions save;
   std::string preview;  // empty: none
-  Camera camera;        // of the preview
-  int width = 0, height = 0;
+  View view;            // of the preview
 };
 
 // Where the outputs go, checked before the (long) bake: never the input, a writable folder.
@@ -154,13 +153,9 @@ Result<OutputPaths> plan_outputs(const BakeCommandOptions& options, const bake::
   out.preview = options.preview.value_or((fs::path(output).parent_path() / fs::path(output).stem()).string() + "-preview.png");
   if (out.preview.empty()) return out;
   if (auto ok = check_output(out.preview, options.scene.scene); !ok) return std::unexpected(ok.error());
-  Result<Camera> camera = choose_camera(options.camera, document.scene());
-  if (!camera) return std::unexpected(camera.error());
-  Result<int> height = image_height(options.camera, *camera);
-  if (!height) return std::unexpected(height.error());
-  out.camera = *camera;
-  out.width = options.camera.width;
-  out.height = *height;
+  Result<View> view = choose_view(options.camera, document.scene());
+  if (!view) return std::unexpected(view.error());
+  out.view = *view;
   return out;
 }
 
@@ -169,7 +164,8 @@ Result<OutputPaths> plan_outputs(const BakeCommandOptions& options, const bake::
 Result<void> write_preview(const OutputPaths& outputs, const bake::Document& document, const bake::BakeResult& result,
                            const engine::Engine& engine) {
   const AoImage image =
-      bake::render_preview(document, result, *engine.geometry().embree(), outputs.camera, outputs.width, outputs.height);
+      bake::render_preview(document, result, *engine.geometry().embree(), outputs.view.camera, outputs.view.width,
+                           outputs.view.height);
   std::vector<std::uint8_t> rgb(3 * image.ao.size());
   for (std::size_t i = 0; i < image.ao.size(); ++i) {
     const auto grey = static_cast<std::uint8_t>(std::lround(255.0f * std::clamp(image.ao[i], 0.0f, 1.0f)));

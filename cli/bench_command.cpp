@@ -116,10 +116,8 @@ int run_bench(const BenchOptions& options) {
 
   Result<Scene> scene = open_scene(options.scene);
   if (!scene) return report(scene.error());
-  Result<Camera> camera = choose_camera(options.camera, *scene);
-  if (!camera) return report(camera.error());
-  Result<int> height = image_height(options.camera, *camera);
-  if (!height) return report(height.error());
+  Result<View> view = choose_view(options.camera, *scene);
+  if (!view) return report(view.error());
   // One geometry (Embree scene, triangles, BVH) for every engine of the run.
   engine::GeometryOptions geometry_options;
   geometry_options.sidedness = base->sidedness;
@@ -143,7 +141,7 @@ int run_bench(const BenchOptions& options) {
   Result<engine::Engine> reference = engine_for(engine::Method::Embree, lut::MaskMode::Exact, options.samples.front(),
                                                 options.radii.empty() ? std::string() : options.radii.front());
   if (!reference) return report(reference.error());
-  Result<PixelReceivers> pixels = reference->pixel_receivers(*camera, options.camera.width, *height);
+  Result<PixelReceivers> pixels = reference->pixel_receivers(view->camera, view->width, view->height);
   if (!pixels) return report(pixels.error());
   if (pixels->receivers.empty()) return report(Error{options.scene.scene + ": the camera sees no triangle; try --eye/--target"});
 
@@ -184,7 +182,7 @@ int run_bench(const BenchOptions& options) {
           if (options.stats) run.stats = &stats;
           if (config.method == engine::Method::Embree) run.embree_rays = config.rays;
           const auto start = std::chrono::steady_clock::now();
-          Result<MaskSet> masks = engines[c].pixel_masks(*pixels, *camera, run);
+          Result<MaskSet> masks = engines[c].pixel_masks(*pixels, view->camera, run);
           const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
           bar.finish();
           if (!masks) return report(masks.error());

@@ -165,6 +165,14 @@ Result<int> image_height(const CameraOptions& options, const Camera& camera) {
   return height;
 }
 
+Result<View> choose_view(const CameraOptions& options, const Scene& scene) {
+  Result<Camera> camera = choose_camera(options, scene);
+  if (!camera) return std::unexpected(camera.error());
+  Result<int> height = image_height(options, *camera);
+  if (!height) return std::unexpected(height.error());
+  return View{*camera, options.width, *height};
+}
+
 Result<void> check_output(const std::string& output, const std::string& input) {
   std::error_code ec;
   if (std::filesystem::exists(input, ec) && std::filesystem::exists(output, ec) &&

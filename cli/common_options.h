@@ -74,6 +74,14 @@ void print_load_report(const std::string& name, const LoadReport& report);
 [[nodiscard]] Result<Camera> choose_camera(const CameraOptions& options, const Scene& scene);
 [[nodiscard]] Result<int> image_height(const CameraOptions& options, const Camera& camera);
 
+/// A camera and an image size: choose_camera and image_height together.
+struct View {
+  Camera camera;
+  int width = 0;
+  int height = 0;
+};
+[[nodiscard]] Result<View> choose_view(const CameraOptions& options, const Scene& scene);
+
 /// Refuses an output path that names the input file (inputs are never overwritten).
 [[nodiscard]] Result<void> check_output(const std::string& output, const std::string& input);
 

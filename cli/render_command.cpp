@@ -50,10 +50,8 @@ int run_render(const RenderOptions& options) {
 
   Result<Scene> scene = open_scene(options.scene);
   if (!scene) return report(scene.error());
-  Result<Camera> camera = choose_camera(options.camera, *scene);
-  if (!camera) return report(camera.error());
-  Result<int> height = image_height(options.camera, *camera);
-  if (!height) return report(height.error());
+  Result<View> view = choose_view(options.camera, *scene);
+  if (!view) return report(view.error());
   Result<engine::Engine> engine = engine::Engine::build(*scene, *engine_options, engine::Receivers::Pixels);
   if (!engine) return report(engine.error());
 
@@ -65,7 +63,7 @@ int run_render(const RenderOptions& options) {
     engine::RunOptions run;
     run.progress = bar.callback();
     if (options.stats) run.stats = &stats;
-    result = engine->render(*camera, options.camera.width, *height, run);
+    result = engine->render(view->camera, view->width, view->height, run);
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (!result) return report(result.error());
