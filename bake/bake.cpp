@@ -18,6 +18,8 @@ namespace {
 // UVs this far outside [0, 1] are rounding of an edge on the border, and are clamped.
 constexpr double kUvSlack = 1e-3;
 
+}  // namespace
+
 Result<void> check_options(const BakeOptions& o) {
   if (o.target == Target::Vertex) return {};
   if (o.texture_size < 16 || o.texture_size > 16384) {
@@ -32,6 +34,8 @@ Result<void> check_options(const BakeOptions& o) {
   if (o.uv_set < 0 || o.uv_set > 15) return fail("uv_set: must be from 0 to 15, got " + std::to_string(o.uv_set));
   return {};
 }
+
+namespace {
 
 // The receivers' AO from the engine (which batches, orders and threads them), timed.
 Result<void> compute(BakeResult& result, const engine::Engine& engine, const ProgressCallback& progress) {

@@ -33,6 +33,10 @@ struct BakeOptions {
   int margin = 4;              // dilation rings around each chart, texels (0 to 64)
 };
 
+/// Checks the options of a texture bake (vertex bakes have none to check); the error names the
+/// field ("texel_samples: ...") and its value.
+[[nodiscard]] Result<void> check_options(const BakeOptions& options);
+
 /// One AO map: every primitive (of the default scene) with the same material shares it.
 struct AoMap {
   int material = -1;                 // glTF material it belongs to (-1: primitives without one)

@@ -19,8 +19,13 @@ void flush(png_structp) {}
 
 }  // namespace
 
+Result<void> check_png_bits(int bits) {
+  if (bits != 8 && bits != 16) return fail("png_bits: must be 8 or 16, got " + std::to_string(bits));
+  return {};
+}
+
 Result<std::vector<std::uint8_t>> encode_grey_png(std::span<const float> values, int width, int height, int bits) {
-  if (bits != 8 && bits != 16) return fail("--png-bits: must be 8 or 16, got " + std::to_string(bits));
+  if (auto ok = check_png_bits(bits); !ok) return std::unexpected(ok.error());
   if (width < 1 || height < 1 || values.size() != static_cast<std::size_t>(width) * static_cast<std::size_t>(height)) {
     return fail("AO map: bad size " + std::to_string(width) + " x " + std::to_string(height));
   }

@@ -10,6 +10,9 @@
 
 namespace exao::bake {
 
+/// Checks the PNG depth of AO maps: 8 or 16; the error names the option "png_bits".
+[[nodiscard]] Result<void> check_png_bits(int bits);
+
 /// Encodes width x height values in [0, 1] (clamped; NaN as 0), row-major from the top row, as a
 /// greyscale PNG of `bits` 8 or 16, rounded to the nearest level. Linear values (no gamma chunk):
 /// glTF reads occlusion from the R channel as linear data.

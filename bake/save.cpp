@@ -303,6 +303,7 @@ Result<std::vector<std::uint8_t>> file_bytes(const nlohmann::ordered_json& json,
 
 Result<std::vector<std::string>> planned_outputs(const Document& document, const BakeResult* result,
                                                  const SaveOptions& options) {
+  if (auto ok = check_png_bits(options.png_bits); !ok) return std::unexpected(ok.error());
   auto paths = paths_for(document, result, options);
   if (!paths) return std::unexpected(paths.error());
   std::vector<std::string> out = all(*paths);

@@ -20,7 +20,8 @@ struct SaveOptions {
 
 /// The files a save writes, for checks before a long bake: the glTF, its .bin (OUT.bin, when
 /// .gltf and the input's buffers were not embedded), and per map OUT_ao[_label].png and .exr.
-/// Fails when `path` has another extension, or any of them is a file of the input.
+/// Fails when `path` has another extension, any of them is a file of the input, or png_bits is
+/// neither 8 nor 16.
 [[nodiscard]] Result<std::vector<std::string>> planned_outputs(const Document& document, const BakeResult* result,
                                                                const SaveOptions& options);
 

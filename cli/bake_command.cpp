@@ -104,7 +104,6 @@ Result<BakePlan> plan_bake(const BakeCommandOptions& options, FlagOverrides& fla
   if (options.normals != "geometric" && options.normals != "file") {
     return fail("normals: must be geometric or file, got '" + options.normals + "'");
   }
-  if (options.png_bits != 8 && options.png_bits != 16) return fail("png_bits: must be 8 or 16, got " + std::to_string(options.png_bits));
   bake::BakeOptions& b = plan.bake;
   b.target = options.texture ? bake::Target::Texture : bake::Target::Vertex;
   b.channel = options.attribute ? bake::VertexChannel::Attribute : bake::VertexChannel::Color;
@@ -113,11 +112,8 @@ Result<BakePlan> plan_bake(const BakeCommandOptions& options, FlagOverrides& fla
   b.uv_set = options.uv_set;
   b.texel_samples = options.texel_samples;
   b.margin = options.margin;
-  // The map size bounds the atlas below, so it is checked here rather than by the bake.
-  if (options.texture && (*options.texture < 16 || *options.texture > 16384)) {
-    return fail("texture_size: the map size must be from 16 to 16384 texels, got " + std::to_string(*options.texture));
-  }
-  if (options.margin < 0 || options.margin > 64) return fail("margin: must be from 0 to 64 texels, got " + std::to_string(options.margin));
+  // Before the document is opened: the map size and margin lay out its atlas.
+  if (auto ok = bake::check_options(b); !ok) return std::unexpected(ok.error());
   return plan;
 }
 

@@ -94,6 +94,7 @@ TEST(CliMatrix, BakeCompareRunsEveryMethodThatServesPoints) {
 TEST(CliMatrix, ErrorsNameTheFlagAndTheValue) {
   test::TempDir dir;
   const std::string out = " -W 8 -H 8 -o " + (dir / "a.exr").string() + " --png ''";
+  const std::string bake = " -n 32 --preview '' -o " + (dir / "a.glb").string();
   const struct {
     std::string arguments;
     std::string starts;
@@ -109,6 +110,10 @@ TEST(CliMatrix, ErrorsNameTheFlagAndTheValue) {
       {"render plane-pair --offset -1" + out, "exao: --offset: must be a finite length >= 0"},
       {"bench plane-pair -n 32,100 -W 8 -H 8", "exao: --samples: must be a multiple of 32 from 32 to 1024, got 100"},
       {"bench plane-pair --methods fast -W 8 -H 8", "exao: --methods: unknown method 'fast'"},
+      {"bake plane-pair --png-bits 12" + bake, "exao: --png-bits: must be 8 or 16, got 12"},
+      {"bake plane-pair --texture 8" + bake, "exao: --texture: the map size must be from 16 to 16384 texels, got 8"},
+      {"bake plane-pair --texture 64 --texel-samples 3" + bake, "exao: --texel-samples: must be a square number"},
+      {"bake plane-pair --texture 64 --uv-set 16" + bake, "exao: --uv-set: must be from 0 to 15, got 16"},
   };
   for (const auto& c : cases) {
     const CommandResult run = exao(c.arguments);
