@@ -248,6 +248,12 @@ int run_bake(const BakeCommandOptions& options) {
   if (!geometry) return report(geometry.error());
   Result<engine::Engine> engine = engine::Engine::build(*geometry, plan->engine, engine::Receivers::Points);
   if (!engine) return report(engine.error());
+  std::optional<engine::Engine> other;
+  if (plan->compare) {
+    Result<engine::Engine> built = engine::Engine::build(*geometry, *plan->compare, engine::Receivers::Points);
+    if (!built) return report(built.error(), kCompareFlags);
+    other = std::move(*built);
+  }
 
   Result<bake::BakeResult> result;
   {
@@ -268,9 +274,7 @@ int run_bake(const BakeCommandOptions& options) {
     written->push_back(outputs->preview);
   }
   print_summary(name, *document, plan->bake, *result, *engine);
-  if (plan->compare) {
-    Result<engine::Engine> other = engine::Engine::build(*geometry, *plan->compare, engine::Receivers::Points);
-    if (!other) return report(other.error(), kCompareFlags);
+  if (other) {
     if (auto ok = run_compare(*result, *engine, *other); !ok) return report(ok.error(), kCompareFlags);
   }
   std::string files;

@@ -219,7 +219,7 @@ void Engine::mask_one(const Receiver& receiver, std::span<std::uint64_t> words) 
 Result<PixelReceivers> Engine::pixel_receivers(const Camera& camera, int width, int height) const {
   const Impl& impl = *impl_;
   if (!impl.geometry->embree() || !impl.geometry->scene()) {
-    return fail("receivers: this engine was built for points, without primary visibility");
+    return fail("method: this engine's geometry has no Embree scene for primary visibility (build it for pixels)");
   }
   PixelReceivers out;
   impl.arena->execute(
