@@ -42,8 +42,8 @@ Result<Backends> Backends::prepare(const Scene& scene, std::span<const Method> m
   return b;
 }
 
-Result<lut::MaskEngine> Backends::engine(const ShadowRays& rays, lut::MaskMode mode) const {
-  return lut::MaskEngine::build(rays, mode, options_.table_resolution);
+Result<lut::MaskEngine> Backends::engine(const ShadowRays& rays, lut::MaskMode mode, std::optional<Isa> isa) const {
+  return lut::MaskEngine::build(rays, mode, options_.table_resolution, isa ? isa : options_.isa);
 }
 
 MaskSet Backends::run(Method method, const ShadowRays& rays, const lut::MaskEngine* engine,

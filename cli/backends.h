@@ -13,6 +13,7 @@
 #include "bvh/traverse.h"
 #include "core/embree_reference.h"
 #include "core/error.h"
+#include "core/isa.h"
 #include "core/mask_set.h"
 #include "core/progress.h"
 #include "core/scene.h"
@@ -36,6 +37,7 @@ struct BackendOptions {
   lut::MaskMode masks = lut::MaskMode::Lut;
   int table_resolution = 0;  // 0: the default for N
   bvh::BvhOptions bvh;
+  std::optional<Isa> isa;    // the mask kernels' instruction set (nullopt: EXAO_ISA or the best)
 };
 
 /// Work counters a backend reports.
@@ -56,7 +58,8 @@ class Backends {
   [[nodiscard]] const BackendOptions& options() const { return options_; }
 
   /// The mask engine for `rays` in `mode` (builds the plane table in Lut mode).
-  [[nodiscard]] Result<lut::MaskEngine> engine(const ShadowRays& rays, lut::MaskMode mode) const;
+  [[nodiscard]] Result<lut::MaskEngine> engine(const ShadowRays& rays, lut::MaskMode mode,
+                                               std::optional<Isa> isa = std::nullopt) const;
 
   /// Masks of the pixel receivers of `camera` by the raster backend (these receivers: the
   /// G-buffer's own, or Embree's when the caller compares methods on the same receivers).

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <sstream>
 
@@ -18,6 +19,7 @@
 #include "cli/common_options.h"
 #include "cli/progress_bar.h"
 #include "core/atomic_write.h"
+#include "core/isa.h"
 #include "core/pixel_receivers.h"
 
 namespace exao::cli {
@@ -33,6 +35,7 @@ struct BenchOptions {
   std::vector<std::string> methods{"embree", "bvh"};
   std::vector<std::string> masks{"lut", "exact"};
   std::vector<std::string> embree_rays{"packet16"};
+  std::vector<std::string> isas{"auto"};
   int repeats = 1;
   std::string json;
   std::string svg;
@@ -83,6 +86,14 @@ int run_bench(const BenchOptions& options) {
     embree_modes.push_back(*r);
   }
   if (embree_modes.empty()) return report(Error{"--embree-rays: give at least one mode"});
+  std::vector<Isa> isas;
+  for (const std::string& name : options.isas) {
+    Result<std::optional<Isa>> parsed = parse_isa(name);
+    if (!parsed) return report(Error{"--isa: " + parsed.error().message});
+    Result<Isa> level = resolve_isa(*parsed);
+    if (!level) return report(Error{"--isa: " + level.error().message});
+    isas.push_back(*level);
+  }
   for (const int n : options.samples) {
     if (auto ok = check_sample_count(n); !ok) return report(ok.error());
   }
@@ -117,19 +128,24 @@ int run_bench(const BenchOptions& options) {
       ray_options.radius = radius_text;
       Result<ShadowRays> rays = make_rays(ray_options, *scene);
       if (!rays) return report(rays.error());
-      std::vector<std::unique_ptr<lut::MaskEngine>> engines(2);
+      // One engine per (mask mode, instruction set); the table is built once per mode.
+      std::map<std::pair<lut::MaskMode, Isa>, std::unique_ptr<lut::MaskEngine>> engines;
       for (const lut::MaskMode mode : modes) {
-        Result<lut::MaskEngine> engine = backends->engine(*rays, mode);
-        if (!engine) return report(engine.error());
-        engines[static_cast<int>(mode)] = std::make_unique<lut::MaskEngine>(std::move(*engine));
+        for (const Isa isa : isas) {
+          Result<lut::MaskEngine> engine = backends->engine(*rays, mode, isa);
+          if (!engine) return report(engine.error());
+          engines[{mode, isa}] = std::make_unique<lut::MaskEngine>(std::move(*engine));
+        }
       }
       // The configurations of this (N, r): Embree first, the reference for every comparison.
-      struct Config { Method method; lut::MaskMode mode; EmbreeRays rays; };
+      struct Config { Method method; lut::MaskMode mode; EmbreeRays rays; Isa isa; };
       std::vector<Config> configs;
-      for (const EmbreeRays r : embree_modes) configs.push_back({Method::Embree, lut::MaskMode::Exact, r});
+      for (const EmbreeRays r : embree_modes) configs.push_back({Method::Embree, lut::MaskMode::Exact, r, isas[0]});
       for (const Method m : methods) {
         if (m == Method::Embree) continue;
-        for (const lut::MaskMode mode : modes) configs.push_back({m, mode, EmbreeRays::Single});
+        for (const lut::MaskMode mode : modes) {
+          for (const Isa isa : isas) configs.push_back({m, mode, EmbreeRays::Single, isa});
+        }
       }
       std::vector<BenchRun> runs(configs.size());
       std::vector<MaskSet> results(configs.size());
@@ -137,7 +153,8 @@ int run_bench(const BenchOptions& options) {
       for (int repeat = 0; repeat < options.repeats; ++repeat) {
         for (std::size_t c = 0; c < configs.size(); ++c) {
           const Config& config = configs[c];
-          const lut::MaskEngine* engine = engines[static_cast<int>(config.mode)].get();
+          const lut::MaskEngine* engine =
+              config.method == Method::Embree ? nullptr : engines.at({config.mode, config.isa}).get();
           BackendStats stats;
           ProgressBar bar(std::string("bench ") + method_name(config.method));
           const auto start = std::chrono::steady_clock::now();
@@ -155,6 +172,7 @@ int run_bench(const BenchOptions& options) {
             run.radius_text = radius_text;
             run.method = method_name(config.method);
             run.masks = config.method == Method::Embree ? embree_rays_name(config.rays) : lut::mask_mode_name(config.mode);
+            run.isa = config.method == Method::Embree ? "" : isa_name(config.isa);
             run.stats = stats;
             results[c] = std::move(masks);
           }
@@ -205,6 +223,11 @@ Command add_bench_command(CLI::App& app) {
   command->add_option("--branching", options->method.branching, "BVH children per node: 2 or 4")->capture_default_str();
   command->add_option("--leaf-size", options->method.leaf_size, "Most triangles per BVH leaf: 1 to 8")->capture_default_str();
   command->add_option("--repeats", options->repeats, "Interleaved repeats; the fastest time counts")->capture_default_str();
+  command->add_option("--isa", options->isas,
+                      "Instruction sets of the mask kernels, a list of auto, scalar, sse2, sse4, avx2, avx512 "
+                      "(auto: EXAO_ISA, else the best this CPU runs)")
+      ->delimiter(',')
+      ->capture_default_str();
   command->add_option("--json", options->json, "Write the results as JSON");
   command->add_option("--svg", options->svg, "Write a bar chart of Mrays/s as SVG");
   command->add_flag("--stats", options->stats, "Add BVH work counters per receiver");

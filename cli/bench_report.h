@@ -16,6 +16,7 @@ struct BenchRun {
   std::string radius_text;
   std::string method;
   std::string masks;
+  std::string isa;  // the mask kernels' instruction set ("" for embree)
   double seconds = 0.0;
   double mrays_per_s = 0.0;
   double speedup_vs_embree = 0.0;

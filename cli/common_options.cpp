@@ -75,12 +75,7 @@ std::unique_ptr<tbb::global_control> thread_limit(int threads) {
 
 void print_stats(const BackendStats& stats) {
   if (stats.raster.receivers) std::printf("%s", raster::format_stats(stats.raster).c_str());
-  const auto& t = stats.traversal;
-  if (t.receivers == 0) return;
-  const double n = static_cast<double>(t.receivers);
-  std::printf("per receiver: %.1f nodes visited, %.1f triangles tested, %.1f triangles blocked a new ray\n",
-              static_cast<double>(t.nodes_visited) / n, static_cast<double>(t.triangles_tested) / n,
-              static_cast<double>(t.triangles_blocking) / n);
+  std::printf("%s", bvh::format_stats(stats.traversal, default_isa()).c_str());
 }
 
 Result<Scene> open_scene(const SceneOptions& options) {

@@ -93,7 +93,7 @@ int run_query(const QueryOptions& options) {
               static_cast<double>(points.size()) * info.samples / seconds * 1e-6, options.output.c_str());
   if (options.stats) {
     BackendStats backend_stats;
-    backend_stats.traversal = {stats.receivers, stats.nodes_visited, stats.triangles_tested, stats.triangles_blocking};
+    backend_stats.traversal = {stats.receivers, stats.nodes_visited, stats.triangles_tested, stats.triangles_blocking, {}};
     print_stats(backend_stats);
   }
   return 0;
