@@ -7,11 +7,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <numeric>
 
 #include "bvh/bvh.h"
 #include "bvh/occlusion.h"
 #include "core/builtin_scenes.h"
+#include "core/load_scene.h"
 #include "core/world_key.h"
 #include "lut/mask_engine.h"
 #include "ssao/abuffer_ao.h"
@@ -24,6 +26,7 @@
 #include "ssao/stochastic_depth.h"
 #include "ssao/svao.h"
 #include "ssao/vao.h"
+#include "tests/test_support.h"
 
 namespace exao::ssao {
 namespace {
@@ -368,6 +371,45 @@ TEST(Ssao, WorldKeyDependsOnlyOnTheCell) {
   EXPECT_NE(world_key({0.01f, 0.0f, 0.0f}, 1.0f), world_key({0.9f, 0.0f, 0.0f}, 1.0f));
   // A plane at a round coordinate is not on a cell boundary: float noise keeps one key.
   EXPECT_EQ(world_key({0.3f, 1e-7f, 0.3f}, 0.5f), world_key({0.3f, -1e-7f, 0.3f}, 0.5f));
+}
+
+// glTF opacity as core/scene.h states it: BLEND is baseColorFactor's alpha, MASK is 0 or 1 by
+// alphaCutoff (default 0.5), OPAQUE is 1.
+TEST(Ssao, GltfMaterialsCarryTheirOpacity) {
+  test::TempDir dir;
+  std::string bin(36, '\0');
+  const float corners[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  std::memcpy(bin.data(), corners, sizeof corners);
+  test::write_file(dir / "t.bin", bin);
+  std::string gltf = R"({"asset":{"version":"2.0"},"buffers":[{"uri":"t.bin","byteLength":36}],
+    "bufferViews":[{"buffer":0,"byteLength":36}],
+    "accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}],
+    "materials":[{"alphaMode":"BLEND","pbrMetallicRoughness":{"baseColorFactor":[1,1,1,0.4]}},
+                 {"alphaMode":"MASK","alphaCutoff":0.5,"pbrMetallicRoughness":{"baseColorFactor":[1,1,1,0.3]}},
+                 {"alphaMode":"MASK","pbrMetallicRoughness":{"baseColorFactor":[1,1,1,0.6]}},
+                 {"pbrMetallicRoughness":{"baseColorFactor":[1,1,1,0.1]}}],
+    "meshes":[{"primitives":[{"attributes":{"POSITION":0},"material":0},{"attributes":{"POSITION":0},"material":1},
+                             {"attributes":{"POSITION":0},"material":2},{"attributes":{"POSITION":0},"material":3}]}],
+    "nodes":[{"mesh":0}],"scenes":[{"nodes":[0]}],"scene":0})";
+  test::write_file(dir / "t.gltf", gltf);
+  const Result<Scene> scene = load_scene((dir / "t.gltf").string());
+  ASSERT_TRUE(scene) << scene.error().message;
+  ASSERT_EQ(scene->triangle_count(), 4u);
+  EXPECT_FLOAT_EQ(scene->opacity(0), 0.4f);
+  EXPECT_FLOAT_EQ(scene->opacity(1), 0.0f);
+  EXPECT_FLOAT_EQ(scene->opacity(2), 1.0f);
+  EXPECT_FLOAT_EQ(scene->opacity(3), 1.0f);
+  EXPECT_FLOAT_EQ(make_room().opacity(0), 1.0f);
+}
+
+TEST(Ssao, AlphaBlendModeTestIsOpaqueWithoutItsTextures) {
+  const auto path = test::real_scene("AlphaBlendModeTest/glTF/AlphaBlendModeTest.gltf");
+  EXAO_REQUIRE_SCENE(path);
+  const Result<Scene> scene = load_scene(path.string());
+  ASSERT_TRUE(scene) << scene.error().message;
+  // Its cut-outs are in the (absent) textures; every baseColorFactor alpha is 1.
+  ASSERT_EQ(scene->material_opacity.size(), 6u);
+  for (const float a : scene->material_opacity) EXPECT_EQ(a, 1.0f);
 }
 
 TEST(Ssao, BadOptionsAreRefusedWithTheirName) {
