@@ -105,7 +105,7 @@ Scene make_hidden_box(bool box, bool wall) {
   add_grid(scene, {-6.0f, 0.0f, 6.0f}, {6.0f, 0.0f, 6.0f}, {-6.0f, 0.0f, -6.0f}, 48, 48);
   if (wall) add_box(scene, {0.1f, 0.0f, 2.0f}, {4.0f, 3.0f, 2.1f}, true, 0.25f);
   if (box) add_box(scene, {0.1f, 0.0f, -0.5f}, {1.1f, 1.0f, 0.5f}, true, 0.25f);
-  scene.cameras.push_back(look_at({0.3f, 1.2f, 6.0f}, {0.0f, 0.2f, 0.0f}, 50.0f));
+  scene.cameras.push_back(look_at({0.3f, 2.0f, 6.0f}, {-0.2f, 0.0f, 0.0f}, 50.0f));
   scene.cameras.back().name = "view";
   return scene;
 }

@@ -156,10 +156,10 @@ struct Gain {
   double exact = 0.0;
 };
 
-Gain box_gain(bool wall, const CompareOptions& options, const std::function<void(Scene&)>& edit = {}) {
+Gain box_gain(bool wall, const CompareOptions& options, const std::function<void(Scene&)>& edit = {}, int samples = 128) {
   Scene with = make_hidden_box(true, wall), without = make_hidden_box(false, wall);
   if (edit) edit(with);
-  const Exact exact_with(std::move(with), 1.0f, 256), exact_without(std::move(without), 1.0f, 256);
+  const Exact exact_with(std::move(with), 1.0f, samples), exact_without(std::move(without), 1.0f, samples);
   const Camera camera = exact_with.scene.cameras[0];
   const ViewResult a = compare_view(exact_with.scene, camera, 240, 180, options, std::cref(exact_with));
   const ViewResult b = compare_view(exact_without.scene, camera, 240, 180, options, std::cref(exact_without));
@@ -202,7 +202,7 @@ TEST(Ssao, HiddenBoxSingleLayerMissesItStochasticSeesPartAbufferAndExactSeeAll) 
 TEST(Ssao, AbufferWeighsOccludersByOpacity) {
   CompareOptions options = options_for(1.0f);
   options.methods = {Method::Abuffer};
-  const Gain opaque = box_gain(true, options);
+  const Gain opaque = box_gain(true, options, {}, 32);
   // The box's triangles are the last 6 x 16 (faces of 4 x 4 cells, two triangles each).
   const auto box_material = [](float opacity) {
     return [opacity](Scene& s) {
@@ -210,8 +210,8 @@ TEST(Ssao, AbufferWeighsOccludersByOpacity) {
       s.material_opacity = {1.0f, opacity};
     };
   };
-  const Gain half = box_gain(true, options, box_material(0.5f));
-  const Gain clear = box_gain(true, options, box_material(0.0f));
+  const Gain half = box_gain(true, options, box_material(0.5f), 32);
+  const Gain clear = box_gain(true, options, box_material(0.0f), 32);
   ASSERT_GT(opaque.method.at(Method::Abuffer), 0.02);
   // With constant falloff a direction's gains add up to opacity x (f(sin h_max) - f(bias)).
   EXPECT_NEAR(half.method.at(Method::Abuffer) / opaque.method.at(Method::Abuffer), 0.5, 1e-4);
@@ -346,7 +346,7 @@ TEST(Ssao, StereoMetricIsZeroForTheSameViewTwice) {
 // error of interpolating a view-independent field between two pixel grids, which one key for the
 // whole scene (a cell larger than the scene) measures.
 TEST(Ssao, WorldKeysMakeExactAoStereoConsistent) {
-  Exact exact(make_room(), 0.6f, 256);
+  Exact exact(make_room(), 0.6f, 128);
   exact.engine.emplace(std::move(*lut::MaskEngine::build(exact.rays, lut::MaskMode::Lut)));  // exao compare's masks
   CompareOptions options = options_for(0.6f);
   options.methods = {Method::Hbao};
