@@ -188,6 +188,10 @@ TEST(Ssao, HiddenBoxSingleLayerMissesItStochasticSeesPartAbufferAndExactSeeAll) 
   EXPECT_EQ(hidden.method.at(Method::Vao), 0.0);
   // Share of the box's occlusion each method still sees behind the wall.
   const auto share = [&](Method m) { return hidden.method.at(m) / seen.method.at(m); };
+  for (const auto& [m, gain] : hidden.method) {
+    std::printf("%-8s box occlusion seen %.4f, behind the wall %.4f (%.0f%%)\n", method_label(m), seen.method.at(m), gain, 100.0 * share(m));
+  }
+  std::printf("exact    box occlusion seen %.4f, behind the wall %.4f\n", seen.exact, hidden.exact);
   EXPECT_GT(share(Method::SdHbao), 0.05);
   EXPECT_LT(share(Method::SdHbao), 0.95);
   EXPECT_GT(share(Method::SdSvao), 0.05);
