@@ -10,6 +10,8 @@
 #include <memory>
 #include <optional>
 #include <sstream>
+#include <string_view>
+#include <utility>
 
 #include <nlohmann/json.hpp>
 
@@ -57,6 +59,20 @@ Result<void> write_text(const std::string& text, const std::string& path) {
   });
 }
 
+// The library names its options; the command's users know them by their flags.
+Error as_flag_error(const Error& error) {
+  static constexpr std::pair<const char*, const char*> kFlags[] = {
+      {"methods:", "--methods:"},         {"directions:", "--directions:"}, {"steps:", "--steps:"},
+      {"bias:", "--bias:"},               {"thickness:", "--thickness:"},   {"blur:", "--blur:"},
+      {"stochastic depth samples:", "--sd-samples:"}, {"stochastic depth alpha:", "--sd-alpha:"},
+      {"key cell:", "--key-cell:"},       {"radius:", "--radius:"},
+  };
+  for (const auto& [name, flag] : kFlags) {
+    if (error.message.starts_with(name)) return Error{flag + error.message.substr(std::string_view(name).size())};
+  }
+  return error;
+}
+
 std::string slug(const std::string& name) {
   std::string out;
   for (const char c : name) out += c == '+' ? std::string("-plus") : std::string(1, c);
@@ -98,7 +114,7 @@ std::string fixed(double v, int digits) {
 int run_compare(const CompareCommandOptions& o) {
   const auto threads = thread_limit(o.rays.threads);
   Result<std::vector<ssao::Method>> methods = ssao::parse_methods(o.methods);
-  if (!methods) return report(Error{"--" + methods.error().message});
+  if (!methods) return report(as_flag_error(methods.error()));
   if (o.stereo && !(std::isfinite(*o.stereo) && *o.stereo > 0.0)) return report(Error{"--stereo: the eye distance must be greater than 0"});
   if (o.key != "pixel" && o.key != "world") return report(Error{"--key: must be pixel or world, got '" + o.key + "'"});
   if (!(std::isfinite(o.key_cell) && o.key_cell > 0.0)) return report(Error{"--key-cell: must be greater than 0"});
@@ -130,7 +146,7 @@ int run_compare(const CompareCommandOptions& o) {
   options.stochastic.samples = o.sd_samples;
   options.stochastic.alpha = o.sd_alpha;
   if (o.key == "world") options.world_key_cell = static_cast<float>(o.key_cell * rays->radius);
-  if (auto ok = ssao::check(options); !ok) return report(Error{"--" + ok.error().message});
+  if (auto ok = ssao::check(options); !ok) return report(as_flag_error(ok.error()));
 
   std::error_code ec;
   std::filesystem::create_directories(o.output, ec);

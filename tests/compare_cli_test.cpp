@@ -73,11 +73,12 @@ TEST(CompareCli, BadOptionsGetOneLine) {
   const std::string out = " -W 32 -H 24 -n 32 -o " + (dir / "cmp").string();
   expect_one_line_error(exao("compare --methods hbao,foo" + out), "--methods");
   expect_one_line_error(exao("compare --methods hbao,hbao" + out), "twice");
-  expect_one_line_error(exao("compare --sd-samples 0" + out), "samples");
-  expect_one_line_error(exao("compare --sd-alpha 1.5" + out), "alpha");
-  expect_one_line_error(exao("compare --thickness 3" + out), "thickness");
-  expect_one_line_error(exao("compare --directions 0" + out), "directions");
-  expect_one_line_error(exao("compare --blur -2" + out), "blur");
+  expect_one_line_error(exao("compare --sd-samples 0" + out), "--sd-samples");
+  expect_one_line_error(exao("compare --sd-alpha 1.5" + out), "--sd-alpha");
+  expect_one_line_error(exao("compare --thickness 3" + out), "--thickness");
+  expect_one_line_error(exao("compare --directions 0" + out), "--directions");
+  expect_one_line_error(exao("compare --blur -2" + out), "--blur");
+  expect_one_line_error(exao("compare --key-cell 0" + out), "--key-cell");
   expect_one_line_error(exao("compare --stereo -1" + out), "--stereo");
   expect_one_line_error(exao("compare --key hash" + out), "--key");
   expect_one_line_error(exao("compare -r 0" + out), "--radius");
