@@ -193,7 +193,8 @@ int run_compare(const CompareCommandOptions& o) {
     stats.push_back(ssao::error_stats(m.ao, main.exact, main.view.valid));
   }
   std::vector<ssao::SheetCell> cells;
-  cells.push_back({"EXACT N=" + std::to_string(rays->count()), &greys[0], nullptr});
+  const ssao::RgbImage legend = ssao::heat_map_legend(main.view.width, main.view.height);
+  cells.push_back({"EXACT N=" + std::to_string(rays->count()), &greys[0], &legend});
   for (std::size_t i = 0; i < main.methods.size(); ++i) {
     cells.push_back({std::string(ssao::method_label(main.methods[i].method)) + " MAE " + fixed(stats[i].mean_abs, 3), &greys[i + 1], &heats[i]});
   }

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <string_view>
 
 #include "ssao/label_font.h"
 
@@ -68,12 +70,40 @@ RgbImage heat_map(std::span<const float> ao, std::span<const float> exact, std::
   return img;
 }
 
+RgbImage heat_map_legend(int width, int height, double full_scale) {
+  const int bar_top = height / 3, bar_bottom = 2 * height / 3;
+  const std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+  std::vector<float> ao(n, 0.0f), exact(n, 0.0f);
+  std::vector<std::uint8_t> valid(n, 1);
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      const std::size_t p = static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x);
+      const bool bar = y >= bar_top && y < bar_bottom;
+      ao[p] = bar ? static_cast<float>(full_scale * (2.0 * (x + 0.5) / width - 1.0)) : 0.0f;
+    }
+  }
+  RgbImage img = heat_map(ao, exact, valid, width, height, full_scale);
+  const std::uint8_t ink[3] = {20, 20, 20};
+  const int scale = std::max(1, width / 160);
+  const auto label = [&](const std::string& text, int x, int y) { draw_text(img.rgb, width, height, x, y, text, scale, ink); };
+  label("ERROR AO - EXACT", (width - text_width("ERROR AO - EXACT", scale)) / 2, bar_top - (kGlyphHeight + 3) * scale);
+  label("DARKER", 2, bar_bottom + 3 * scale);
+  label("LIGHTER", width - text_width("LIGHTER", scale) - 2, bar_bottom + 3 * scale);
+  char range[32];
+  std::snprintf(range, sizeof range, "-%.2f", full_scale);
+  label(range, 2, bar_top - (kGlyphHeight + 3) * scale * 2);
+  std::snprintf(range, sizeof range, "+%.2f", full_scale);
+  label(range, width - text_width(range, scale) - 2, bar_top - (kGlyphHeight + 3) * scale * 2);
+  return img;
+}
+
 RgbImage contact_sheet(std::span<const SheetCell> cells, int columns, int tile_width) {
   RgbImage sheet;
   if (cells.empty() || !cells.front().top) return sheet;
   const int factor = std::max(1, (cells.front().top->width + tile_width - 1) / tile_width);
-  const int scale = 2, label_height = kGlyphHeight * scale + 8, gap = 6;
   const int tw = cells.front().top->width / factor, th = cells.front().top->height / factor;
+  const int scale = std::clamp(tw / 150, 1, 2), label_height = kGlyphHeight * scale + 8, gap = 6;
+  const std::size_t fits = static_cast<std::size_t>((tw + scale) / ((kGlyphWidth + 1) * scale));
   bool any_bottom = false;
   for (const SheetCell& c : cells) any_bottom = any_bottom || c.bottom;
   const int cell_w = tw + gap, cell_h = label_height + th + (any_bottom ? th + 2 : 0) + gap;
@@ -86,7 +116,7 @@ RgbImage contact_sheet(std::span<const SheetCell> cells, int columns, int tile_w
   for (std::size_t i = 0; i < cells.size(); ++i) {
     const int x0 = gap + static_cast<int>(i % static_cast<std::size_t>(columns)) * cell_w;
     const int y0 = gap + static_cast<int>(i / static_cast<std::size_t>(columns)) * cell_h;
-    draw_text(sheet.rgb, sheet.width, sheet.height, x0, y0 + 2, cells[i].label, scale, ink);
+    draw_text(sheet.rgb, sheet.width, sheet.height, x0, y0 + 2, std::string_view(cells[i].label).substr(0, fits), scale, ink);
     blit(sheet, shrink(*cells[i].top, factor), x0, y0 + label_height);
     if (cells[i].bottom) blit(sheet, shrink(*cells[i].bottom, factor), x0, y0 + label_height + th + 2);
   }

@@ -23,6 +23,10 @@ struct RgbImage {
 [[nodiscard]] RgbImage heat_map(std::span<const float> ao, std::span<const float> exact,
                                 std::span<const std::uint8_t> valid, int width, int height, double full_scale = 0.25);
 
+/// A width x height key to heat_map: the error from -full_scale (left) to +full_scale (right),
+/// labelled.
+[[nodiscard]] RgbImage heat_map_legend(int width, int height, double full_scale = 0.25);
+
 struct SheetCell {
   std::string label;               // above the cell
   const RgbImage* top = nullptr;   // AO
