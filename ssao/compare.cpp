@@ -151,6 +151,7 @@ ViewResult compare_view(const Scene& scene, const Camera& camera, int width, int
       case Method::Abuffer: out.ao = abuffer_ao(view, *fragments, scene, s, options.hbao); break;
     }
     bilateral_blur(view, s.radius, s.blur_radius, out.ao);
+    for (float& v : out.ao) v = std::clamp(v, 0.0f, 1.0f);  // VAO's estimator exceeds 1 before the blur
     out.seconds = since(start) + (m == Method::Abuffer ? r.fragment_seconds : 0.0);
     r.methods.push_back(std::move(out));
   }

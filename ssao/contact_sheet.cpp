@@ -102,7 +102,7 @@ RgbImage contact_sheet(std::span<const SheetCell> cells, int columns, int tile_w
   if (cells.empty() || !cells.front().top) return sheet;
   const int factor = std::max(1, (cells.front().top->width + tile_width - 1) / tile_width);
   const int tw = cells.front().top->width / factor, th = cells.front().top->height / factor;
-  const int scale = std::clamp(tw / 150, 1, 2), label_height = kGlyphHeight * scale + 8, gap = 6;
+  const int scale = std::clamp(tw / 120, 1, 2), label_height = kGlyphHeight * scale + 8, gap = 6;
   const std::size_t fits = static_cast<std::size_t>((tw + scale) / ((kGlyphWidth + 1) * scale));
   bool any_bottom = false;
   for (const SheetCell& c : cells) any_bottom = any_bottom || c.bottom;

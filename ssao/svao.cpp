@@ -25,7 +25,7 @@ std::vector<float> sd_svao(const View& view, const VaoResult& phase1, const Stoc
       }
       sum += u / s.height;
     }
-    ao[p] = static_cast<float>(std::clamp(static_cast<double>(phase1.unflagged[p]) + 2.0 * sum / kVaoSamples, 0.0, 1.0));
+    ao[p] = static_cast<float>(static_cast<double>(phase1.unflagged[p]) + 2.0 * sum / kVaoSamples);
   });
   return ao;
 }

@@ -88,7 +88,7 @@ VaoResult vao(const View& view, const Settings& settings, const VaoOptions& opti
       all += u / s.height;
       if (!(flags & (1u << i))) unflagged += u / s.height;
     }
-    out.ao[p] = static_cast<float>(std::clamp(2.0 * all / kVaoSamples, 0.0, 1.0));
+    out.ao[p] = static_cast<float>(2.0 * all / kVaoSamples);
     out.unflagged[p] = static_cast<float>(2.0 * unflagged / kVaoSamples);
     out.flags[p] = flags;
   });

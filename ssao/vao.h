@@ -47,7 +47,10 @@ struct VaoSample {
 [[nodiscard]] double column_z(const View& view, const Settings& settings, std::size_t p, const glm::dvec3& point);
 
 struct VaoResult {
-  std::vector<float> ao;               // VAO (flagged samples after the halo model), before any blur
+  // VAO (flagged samples after the halo model), before any blur and not clamped: an open surface
+  // seen at an angle gets 2/8 x (samples above its plane), 0.75 or 1.25 as often as 1 over a 4 x 4
+  // block, and the blur, not a clamp, is what averages that to 1 (compare_view clamps after it).
+  std::vector<float> ao;
   std::vector<float> unflagged;        // 2/8 sum over unflagged samples only: seed 001's phase 1
   std::vector<std::uint8_t> flags;     // bit i: sample i's surface lies in front of the constant area
   std::vector<std::uint8_t> stencil;   // the stochastic depth mask: pixels a flagged sample reads
