@@ -99,13 +99,25 @@ Scene make_sphere_on_plane() {
   return scene;
 }
 
-std::vector<std::string> builtin_scene_names() { return {"room", "plane-pair", "sphere-on-plane"}; }
+Scene make_hidden_box(bool box, bool wall) {
+  Scene scene;
+  scene.name = "hidden-box";
+  add_grid(scene, {-6.0f, 0.0f, 6.0f}, {6.0f, 0.0f, 6.0f}, {-6.0f, 0.0f, -6.0f}, 48, 48);
+  if (wall) add_box(scene, {0.1f, 0.0f, 2.0f}, {4.0f, 3.0f, 2.1f}, true, 0.25f);
+  if (box) add_box(scene, {0.1f, 0.0f, -0.5f}, {1.1f, 1.0f, 0.5f}, true, 0.25f);
+  scene.cameras.push_back(look_at({0.3f, 2.0f, 6.0f}, {-0.2f, 0.0f, 0.0f}, 50.0f));
+  scene.cameras.back().name = "view";
+  return scene;
+}
+
+std::vector<std::string> builtin_scene_names() { return {"room", "plane-pair", "sphere-on-plane", "hidden-box"}; }
 
 Result<Scene> builtin_scene(const std::string& name) {
   if (name == "room") return make_room();
   if (name == "plane-pair") return make_plane_pair();
   if (name == "sphere-on-plane") return make_sphere_on_plane();
-  return fail(name + ": no such built-in scene (room, plane-pair, sphere-on-plane)");
+  if (name == "hidden-box") return make_hidden_box();
+  return fail(name + ": no such built-in scene (room, plane-pair, sphere-on-plane, hidden-box)");
 }
 
 Result<Scene> open_scene(const std::string& name_or_path) {

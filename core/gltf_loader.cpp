@@ -241,6 +241,14 @@ Result<Scene> build_scene(const tinygltf::Model& model) {
         " skinned mesh node(s) drawn in their bind pose (skinning is not applied)");
   }
   if (scene.triangle_count() == 0) return fail("no triangles");
+  for (const tinygltf::Material& material : model.materials) {
+    const std::vector<double>& colour = material.pbrMetallicRoughness.baseColorFactor;
+    const double alpha = colour.size() == 4 && std::isfinite(colour[3]) ? std::clamp(colour[3], 0.0, 1.0) : 1.0;
+    const double opacity = material.alphaMode == "BLEND" ? alpha
+                           : material.alphaMode == "MASK" ? (alpha >= material.alphaCutoff ? 1.0 : 0.0)
+                                                          : 1.0;
+    scene.material_opacity.push_back(static_cast<float>(opacity));
+  }
   return scene;
 }
 
