@@ -8,11 +8,14 @@
 #include <fstream>
 #include <map>
 #include <memory>
+#include <optional>
 #include <sstream>
 
 #include <tbb/global_control.h>
 #include <tbb/info.h>
 
+#include "bake/bake.h"
+#include "bake/document.h"
 #include "cli/backends.h"
 #include "cli/bench_report.h"
 #include "cli/commands.h"
@@ -36,6 +39,7 @@ struct BenchOptions {
   std::vector<std::string> masks{"lut", "exact"};
   std::vector<std::string> embree_rays{"packet16"};
   std::vector<std::string> isas{"auto"};
+  std::string receivers = "pixels";  // pixels, vertices, or texels:SIZE[:SAMPLES]
   int repeats = 1;
   std::string json;
   std::string svg;
@@ -63,6 +67,33 @@ void compare(const MaskSet& reference, const MaskSet& masks, BenchRun& run) {
   run.identical_receivers = reference.size() ? static_cast<double>(identical) / static_cast<double>(reference.size()) : 1.0;
   run.mean_abs_error = reference.size() ? sum_error / static_cast<double>(reference.size()) : 0.0;
   run.max_abs_error = max_error;
+}
+
+// The receivers of a bake of the scene (vertex or texel), exactly as `exao bake` makes them: the
+// bake is run with an AO function that only records what it is asked about.
+Result<std::vector<Receiver>> bake_receivers(bake::Document& document, const std::string& spec) {
+  bake::BakeOptions options;
+  if (spec == "vertices") {
+    options.target = bake::Target::Vertex;
+  } else if (spec.rfind("texels:", 0) == 0) {
+    options.target = bake::Target::Texture;
+    int size = 0, samples = 1;
+    if (std::sscanf(spec.c_str() + 7, "%d:%d", &size, &samples) < 1) {
+      return fail("--receivers: '" + spec + "' is not texels:SIZE[:SAMPLES]");
+    }
+    options.texture_size = size;
+    options.texel_samples = samples;
+  } else {
+    return fail("--receivers: '" + spec + "' is not pixels, vertices or texels:SIZE[:SAMPLES]");
+  }
+  std::vector<Receiver> receivers;
+  Result<bake::BakeResult> result =
+      bake::bake(document, options, [&](std::span<const Receiver> batch, const ProgressCallback&) {
+        receivers.insert(receivers.end(), batch.begin(), batch.end());
+        return std::vector<float>(batch.size(), 1.0f);
+      });
+  if (!result) return std::unexpected(result.error());
+  return receivers;
 }
 
 int run_bench(const BenchOptions& options) {
@@ -101,16 +132,44 @@ int run_bench(const BenchOptions& options) {
   Result<BackendOptions> backend_options = make_backend_options(options.method);
   if (!backend_options) return report(backend_options.error());
 
-  Result<Scene> scene = open_scene(options.scene);
+  // Pixel receivers come from the scene as every command loads it; bake receivers from the
+  // scene as the bake reads it (a glTF's default scene, or the soup converted with an atlas).
+  const bool on_pixels = options.receivers == "pixels";
+  std::optional<bake::Document> document;
+  Result<Scene> scene = fail("no scene");
+  if (on_pixels) {
+    scene = open_scene(options.scene);
+  } else {
+    bake::ConvertOptions convert;
+    if (options.receivers.rfind("texels:", 0) == 0) convert.atlas_size = std::max(16, std::atoi(options.receivers.c_str() + 7));
+    Result<bake::Document> opened = bake::Document::open(options.scene.scene, convert);
+    if (!opened) return report(opened.error());
+    document = std::move(*opened);
+    scene = document->scene();
+  }
   if (!scene) return report(scene.error());
+  if (!on_pixels && std::find(methods.begin(), methods.end(), Method::Raster) != methods.end()) {
+    return report(Error{"--methods raster: the raster backend serves a camera's pixels only, not --receivers " +
+                        options.receivers});
+  }
   Result<Camera> camera = choose_camera(options.camera, *scene);
   if (!camera) return report(camera.error());
   Result<int> height = image_height(options.camera, *camera);
   if (!height) return report(height.error());
   Result<Backends> backends = Backends::prepare(*scene, methods, *backend_options);
   if (!backends) return report(backends.error());
-  const PixelReceivers pixels = pixel_receivers(backends->embree(), *scene, *camera, options.camera.width, *height);
-  if (pixels.receivers.empty()) return report(Error{options.scene.scene + ": the camera sees no triangle; try --eye/--target"});
+  PixelReceivers pixels;
+  if (on_pixels) {
+    pixels = pixel_receivers(backends->embree(), *scene, *camera, options.camera.width, *height);
+    if (pixels.receivers.empty()) return report(Error{options.scene.scene + ": the camera sees no triangle; try --eye/--target"});
+  } else {
+    Result<std::vector<Receiver>> receivers = bake_receivers(*document, options.receivers);
+    if (!receivers) return report(receivers.error());
+    if (receivers->empty()) return report(Error{options.scene.scene + ": the bake has no receivers"});
+    pixels.receivers = std::move(*receivers);
+    pixels.width = static_cast<int>(pixels.receivers.size());
+    pixels.height = 1;
+  }
 
   BenchReport report_data;
   report_data.scene = options.scene.scene;
@@ -222,6 +281,10 @@ Command add_bench_command(CLI::App& app) {
   command->add_option("--table-resolution", options->method.table_resolution, "Look-up table cells per side (0: default)");
   command->add_option("--branching", options->method.branching, "BVH children per node: 2 or 4")->capture_default_str();
   command->add_option("--leaf-size", options->method.leaf_size, "Most triangles per BVH leaf: 1 to 8")->capture_default_str();
+  command->add_option("--receivers", options->receivers,
+                      "Receivers: pixels (of the camera), vertices (of a vertex bake) or texels:SIZE[:SAMPLES] "
+                      "(of a texture bake, SAMPLES per texel, default 1)")
+      ->capture_default_str();
   command->add_option("--repeats", options->repeats, "Interleaved repeats; the fastest time counts")->capture_default_str();
   command->add_option("--isa", options->isas,
                       "Instruction sets of the mask kernels, a list of auto, scalar, sse2, sse4, avx2, avx512 "
