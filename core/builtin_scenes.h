@@ -19,4 +19,11 @@ namespace exao {
 /// A unit sphere resting on an 8 x 8 floor.
 [[nodiscard]] Scene make_sphere_on_plane();
 
+/// The cases of the surface rule (docs/surface-rule.md) on a 4 x 1.5 x 4 corner: a floor and two
+/// walls meeting at the origin, a box on the floor and one against a wall (faces in the planes
+/// of the floor and the wall), and two two-sided quads through each other, one tilted. Grid
+/// vertices every 0.25, all exact in float, on every corner, edge and crossing line, so vertex
+/// receivers (and offset 0) start exactly in the planes of their neighbours. Has a camera.
+[[nodiscard]] Scene make_corners();
+
 }  // namespace exao

@@ -36,9 +36,11 @@ struct EmbreeOptions {
   bool coherent = true;
 };
 
-/// A scene committed to Embree. One-sided triangles reject back-face hits in an occlusion filter;
-/// two-sided ones live in a geometry without a filter. Immutable after build; any number of
-/// threads may query it at once. Uses the TBB thread limit in force (tbb::global_control).
+/// A scene committed to Embree. One-sided and two-sided triangles live in two geometries; the
+/// occlusion filter of both rejects hits on a triangle whose plane holds the ray origin exactly
+/// (the surface rule, core/surface_rule.h), and the one-sided geometry's also rejects back-face
+/// hits. Immutable after build; any number of threads may query it at once. Uses the TBB thread
+/// limit in force (tbb::global_control).
 class EmbreeScene {
  public:
   struct Hit {

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "core/surface_rule.h"
+
 namespace exao::lut {
 
 const char* mask_mode_name(MaskMode mode) {
@@ -127,6 +129,14 @@ Mask<Bits> MaskEngine::triangle_mask(const TriangleSet& triangles, std::uint32_t
     mask &= table_->lookup<Bits>(edge[2].m, 0.0f);
   }
   if (mask.none()) return mask;
+
+  // 6b. The surface rule (core/surface_rule.h, docs/surface-rule.md): a triangle whose plane
+  //     holds the origin p' exactly blocks nothing. Decided exactly on the stored world floats,
+  //     not by d above: the frame's rounding moves d off 0 (a vertex at a room corner, p' in
+  //     the floor's plane, would have half its rays blocked at t = 0). Only triangles that set
+  //     a bit get here, so the exact test costs nothing elsewhere; its place in the steps does
+  //     not change the bits.
+  if (origin_in_plane(triangles.v0[t], triangles.v1[t], triangles.v2[t], frame.origin)) return {};
 
   // 7. The clip by the triangle's own sphere (nothing to clip when the origin is inside it).
   const SphereTest clip = make_sphere_test(centre, triangles.radius[t], rays_.radius, kTriangleMargin);
