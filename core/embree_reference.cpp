@@ -55,10 +55,10 @@ void on_embree_error(void* user, RTCError code, const char* message) {
 // The occlusion filter of both geometries: DESIGN.md section 1's sidedness and the surface rule.
 // - A one-sided triangle blocks a ray only when the ray arrives at its front face, i.e. travels
 //   against the counter-clockwise normal.
-// - A triangle whose plane holds the ray origin exactly blocks nothing (core/surface_rule.h).
-//   Embree's own test (t > tnear = 0) gives exactly that only where rounding leaves t = 0 (an
-//   axis-aligned plane); on a tilted plane it hits about half such rays, so the exact test
-//   decides. Only hits reach the filter, so the test costs a few tens of flops per blocked ray.
+// - A triangle whose plane the ray origin lies on blocks nothing (core/surface_rule.h).
+//   Embree's own test (t > tnear = 0) gives that only where rounding leaves t = 0 exactly (an
+//   axis-aligned plane); on a tilted plane it hits about half such rays, so the shared test
+//   decides. Only hits reach the filter: a few tens of flops per blocked ray.
 void occlusion_filter(const RTCFilterFunctionNArguments* args) {
   const auto* data = static_cast<const EmbreeScene::Impl::FilterData*>(args->geometryUserPtr);
   for (unsigned i = 0; i < args->N; ++i) {
@@ -76,7 +76,7 @@ void occlusion_filter(const RTCFilterFunctionNArguments* args) {
     const float* v = data->vertices + 9 * static_cast<std::size_t>(prim);
     const glm::vec3 origin{RTCRayN_org_x(args->ray, args->N, i), RTCRayN_org_y(args->ray, args->N, i),
                            RTCRayN_org_z(args->ray, args->N, i)};
-    if (origin_in_plane({v[0], v[1], v[2]}, {v[3], v[4], v[5]}, {v[6], v[7], v[8]}, origin)) args->valid[i] = 0;
+    if (origin_on_plane({v[0], v[1], v[2]}, {v[3], v[4], v[5]}, {v[6], v[7], v[8]}, origin)) args->valid[i] = 0;
   }
 }
 

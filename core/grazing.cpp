@@ -110,8 +110,8 @@ std::vector<double> GrazingTest::closeness(const Frame& frame, std::span<const i
     const dvec3 gap = centre_[t] - o;
     if (glm::dot(gap, gap) > reach_[t] * reach_[t]) continue;
     const auto tri = scene_->triangle(t);
-    // The surface rule: a triangle whose plane holds p' blocks nothing anywhere; no ray grazes it.
-    if (origin_in_plane(tri[0], tri[1], tri[2], frame.origin)) continue;
+    // The surface rule: a triangle whose plane p' lies on blocks nothing anywhere; no ray grazes it.
+    if (origin_on_plane(tri[0], tri[1], tri[2], frame.origin)) continue;
     const dvec3 a(tri[0]), b(tri[1]), c(tri[2]);
     const double ulp = 0x1p-24 * (std::max(origin_largest, double(largest_[t])) + double(rays_.radius));
     const dvec3 normal = glm::cross(b - a, c - a);

@@ -10,8 +10,8 @@
 // double from the floats both backends read) and a triangle T within reach:
 //   delta(T) = kGrazingUlps * 2^-24 * (max(|p'|_inf, |v0|_inf, |v1|_inf, |v2|_inf) + r)
 // (kGrazingUlps float ulps of the largest coordinate either backend subtracts), and S grazes T
-// iff T's plane does not hold p' exactly (such a triangle blocks nothing in every backend, by
-// the surface rule) and any of
+// iff p' is not on T's plane (core/surface_rule.h: such a triangle blocks nothing in every
+// backend) and any of
 //   (a) S passes within delta(T) of one of T's three edges (segment-to-segment distance);
 //   (b) S's end e is within delta(T) of T (the ray ends on the triangle);
 //   (c) p' is within delta(T) of T's plane and S within delta(T) of T (the ray starts on the

@@ -131,12 +131,13 @@ Mask<Bits> MaskEngine::triangle_mask(const TriangleSet& triangles, std::uint32_t
   if (mask.none()) return mask;
 
   // 6b. The surface rule (core/surface_rule.h, docs/surface-rule.md): a triangle whose plane
-  //     holds the origin p' exactly blocks nothing. Decided exactly on the stored world floats,
-  //     not by d above: the frame's rounding moves d off 0 (a vertex at a room corner, p' in
-  //     the floor's plane, would have half its rays blocked at t = 0). Only triangles that set
-  //     a bit get here, so the exact test costs nothing elsewhere; its place in the steps does
-  //     not change the bits.
-  if (origin_in_plane(triangles.v0[t], triangles.v1[t], triangles.v2[t], frame.origin)) return {};
+  //     p' lies on (exactly, or within kOnPlaneUlps of its coordinates) blocks nothing. One
+  //     shared test on the stored world floats, not d above: the frame's rounding moves d off
+  //     0 (a vertex at a room corner, p' in the floor's plane, would have half its rays blocked
+  //     at t = 0), and Embree's filter must reach the same answer. Only triangles that set a bit
+  //     get here, so the test costs nothing elsewhere; its place in the steps does not change
+  //     the bits.
+  if (origin_on_plane(triangles.v0[t], triangles.v1[t], triangles.v2[t], frame.origin)) return {};
 
   // 7. The clip by the triangle's own sphere (nothing to clip when the origin is inside it).
   const SphereTest clip = make_sphere_test(centre, triangles.radius[t], rays_.radius, kTriangleMargin);

@@ -92,8 +92,8 @@ class MaskEngine {
   ///  6. the four plane masks AND-ed: three edge planes through the origin (normal
   ///     cross(va, vb), oriented to the third vertex) and the triangle's plane (oriented away
   ///     from the origin, distance d), from the table (Lut) or by testing every sample point;
-  ///  6b. the origin exactly in the triangle's plane (core/surface_rule.h: such a triangle
-  ///     blocks no ray), decided in exact arithmetic on the world-space floats;
+  ///  6b. the origin on the triangle's plane (core/surface_rule.h: such a triangle blocks no
+  ///     ray), decided by origin_on_plane on the world-space floats;
   ///  7. AND region_mask(the triangle's sphere, kTriangleMargin): a table mask can carry bits far
   ///     from the triangle (a sliver's discretised edge planes), and this clip is what makes
   ///     every bounding region's mask (same function, bigger sphere, bigger margin) a superset.

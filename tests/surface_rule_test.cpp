@@ -98,8 +98,20 @@ TEST(Orientation, SignFollowsTheFrontFace) {
   EXPECT_EQ(orientation(a, b, c, {0.2f, 1e-30f, 0.2f}), -1);
   EXPECT_EQ(orientation(a, b, c, {0.2f, -1e-30f, 0.2f}), 1);
   EXPECT_EQ(orientation(a, b, c, {1e20f, 0.0f, -3e-20f}), 0);
-  EXPECT_TRUE(origin_in_plane(a, b, c, {5.0f, 0.0f, 7.0f}));
-  EXPECT_FALSE(origin_in_plane(a, b, c, {5.0f, std::nextafter(0.0f, 1.0f) * 8388608.0f, 7.0f}));
+}
+
+TEST(SurfaceRule, OnPlaneMeansWithinSixteenUlpsOfTheCoordinates) {
+  // The plane y = 0 through vertices of size 1; the origin at x = 7: the scale is 7.
+  const glm::vec3 a{0, 0, 0}, b{0, 0, 1}, c{1, 0, 0};
+  EXPECT_TRUE(origin_on_plane(a, b, c, {7.0f, 0.0f, 5.0f}));
+  EXPECT_TRUE(origin_on_plane(a, b, c, {7.0f, 1e-30f, 5.0f}));
+  EXPECT_TRUE(origin_on_plane(a, b, c, {7.0f, static_cast<float>(15.0 * 0x1p-24 * 7.0), 5.0f}));
+  EXPECT_FALSE(origin_on_plane(a, b, c, {7.0f, static_cast<float>(17.0 * 0x1p-24 * 7.0), 5.0f}));
+  EXPECT_FALSE(origin_on_plane(a, b, c, {7.0f, -1e-4f, 5.0f}));
+  // A tilted plane through exactly representable points, and a sliver whose normal rounds.
+  EXPECT_TRUE(origin_on_plane({0, 0, 0.75f}, {1, 0, 0.75f}, {0, 1, 1.75f}, {0.5f, 0.25f, 1.0f}));
+  EXPECT_FALSE(origin_on_plane({0, 0, 0.75f}, {1, 0, 0.75f}, {0, 1, 1.75f}, {0.5f, 0.25f, 1.001f}));
+  EXPECT_TRUE(origin_on_plane({0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {5, 6, 7})) << "degenerate: blocks nothing";
 }
 
 // --- Backends ----------------------------------------------------------------------------------
@@ -178,7 +190,7 @@ TEST(SurfaceRule, RaysFromATiltedPlaneAreNotBlockedByIt) {
   for (int i = 0; receivers.size() < 200 && i < 20000; ++i) {
     const float x = static_cast<float>(rng.uniform() * 20.0 - 10.0), y = static_cast<float>(rng.uniform() * 20.0 - 10.0);
     const Receiver receiver{{x, y, -(x + y)}, glm::normalize(glm::vec3(1.0f, -1.0f, 0.0f)), static_cast<std::uint64_t>(i)};
-    if (origin_in_plane(scene.triangle(0)[0], scene.triangle(0)[1], scene.triangle(0)[2], rays.frame(receiver).origin)) {
+    if (origin_on_plane(scene.triangle(0)[0], scene.triangle(0)[1], scene.triangle(0)[2], rays.frame(receiver).origin)) {
       receivers.push_back(receiver);
     }
   }
@@ -197,14 +209,15 @@ TEST(SurfaceRule, RaysFromATiltedPlaneAreNotBlockedByIt) {
       EXPECT_EQ(masks.blocked_count(r), 0) << "masks, receiver " << r;
     }
   }
-  // The same receivers lifted off the plane by a hair are blocked on about half their rays:
+  // The same receivers lifted off the plane (by 4e-4, 60 times the tolerance at the vertices'
+  // scale of 100) are blocked on a good share of their rays:
   // the rule is about the start only.
   std::vector<Receiver> lifted = receivers;
-  for (Receiver& r : lifted) r.normal = glm::normalize(glm::vec3(1.0f, -1.0f, 0.0f) + glm::vec3(0.05f));
+  for (Receiver& r : lifted) r.normal = glm::normalize(glm::vec3(1.0f, -1.0f, 0.0f) + glm::vec3(0.3f));
   auto embree = EmbreeScene::build(scene);
   ASSERT_TRUE(embree);
   const MaskSet masks = embree->occlusion(rays, lifted);
-  for (std::size_t r = 0; r < lifted.size(); ++r) EXPECT_GT(masks.blocked_count(r), 40) << r;
+  for (std::size_t r = 0; r < lifted.size(); ++r) EXPECT_GT(masks.blocked_count(r), 25) << r;
 }
 
 // The bake's receivers of a document: a bake whose AO function records what it is asked.
@@ -237,14 +250,14 @@ TEST(SurfaceRule, CornersVertexReceiversEqualEmbree) {
             const auto tri = scene.triangle(t);
             // In reach: the cells are 0.25 wide, so a triangle's points are within 0.36 of its centroid.
             const glm::vec3 centroid = (tri[0] + tri[1] + tri[2]) / 3.0f;
-            if (glm::length(centroid - o) < radius + 0.36f && origin_in_plane(tri[0], tri[1], tri[2], o)) {
+            if (glm::length(centroid - o) < radius + 0.36f && origin_on_plane(tri[0], tri[1], tri[2], o)) {
               ++on_plane;
               break;
             }
           }
         }
         std::cout << on_plane << " of " << receivers.size() << " receivers start in the plane of a triangle in reach\n";
-        EXPECT_GE(on_plane, offset == 0.0f ? receivers.size() : std::size_t{20});
+        EXPECT_GE(on_plane, offset == 0.0f ? receivers.size() : std::size_t{10});
         const std::string label = std::string("corners ") + (two_sided ? "two-sided" : "one-sided") +
                                   " offset " + std::to_string(offset) + " r " + std::to_string(radius);
         for (const EmbreeRays mode : {EmbreeRays::Single, EmbreeRays::Packet16}) {
@@ -301,3 +314,4 @@ TEST(SurfaceRule, TruckTexelReceiversEqualEmbree) {
 
 }  // namespace
 }  // namespace exao
+
