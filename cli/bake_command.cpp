@@ -86,7 +86,7 @@ void print_agreement(const char* mine, const char* reference, const Agreement& a
   if (a.classified) std::printf(", %zu of them grazing an edge or a plane", a.rays_differ_grazing);
   std::printf("); identical AO on %.4f%% of %zu receivers", 100.0 * a.identical_share(), a.receivers);
   if (a.classified) {
-    std::printf(" (%zu receivers differ only by grazing rays, %zu by others)", a.receivers_grazing, a.ao_differ_not_grazing);
+    std::printf(" (%zu receivers differ only by grazing rays, %zu by a ray that does not graze)", a.receivers_grazing, a.ao_differ_not_grazing);
   }
   std::printf("; mean |dAO| %.5f, max %.4f\n", a.sum_abs_ao / double(std::max<std::size_t>(1, a.receivers)), a.max_abs_ao);
 }
