@@ -9,6 +9,7 @@
 #include <immintrin.h>
 
 #include "bvh/traverse.h"
+#include "core/surface_rule.h"
 #include "lut/mask_kernels.h"
 #include "lut/sphere_test.h"
 

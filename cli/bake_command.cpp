@@ -20,6 +20,8 @@
 #include "cli/commands.h"
 #include "cli/common_options.h"
 #include "cli/progress_bar.h"
+#include "core/agreement.h"
+#include "core/grazing.h"
 #include "core/image_io.h"
 #include "core/load_scene.h"
 
@@ -76,6 +78,18 @@ void print_notes(const std::string& name, const std::vector<std::string>& notes)
 struct Timed {
   double seconds = 0.0;
 };
+
+// The figures of DESIGN.md section 8, test 3, for the bake's own receivers.
+void print_agreement(const char* mine, const char* reference, const Agreement& a) {
+  std::printf("  %s vs %s: rays agree %.4f%% (%zu of %zu differ", mine, reference, 100.0 * a.ray_share(), a.rays_differ,
+              a.rays);
+  if (a.classified) std::printf(", %zu of them grazing an edge or a plane", a.rays_differ_grazing);
+  std::printf("); identical AO on %.4f%% of %zu receivers", 100.0 * a.identical_share(), a.receivers);
+  if (a.classified) {
+    std::printf(" (%zu receivers differ only by grazing rays, %zu by a ray that does not graze)", a.receivers_grazing, a.ao_differ_not_grazing);
+  }
+  std::printf("; mean |dAO| %.5f, max %.4f\n", a.sum_abs_ao / double(std::max<std::size_t>(1, a.receivers)), a.max_abs_ao);
+}
 
 int run_bake(const BakeCommandOptions& options) {
   const auto threads = thread_limit(options.rays.threads);
@@ -222,30 +236,30 @@ int run_bake(const BakeCommandOptions& options) {
               static_cast<double>(rays->radius));
   throughput(*method, main_time.seconds);
   if (compare) {
+    // Ray by ray: the main method runs once more per batch (untimed), so that no mask set larger
+    // than a batch is kept. With exact masks the rays that differ are sorted into grazing or not
+    // (core/grazing.h); table masks differ on too many rays to classify them all.
     Timed compare_time;
-    const auto compare_ao = ao_of(*compare, compare_time);
-    std::size_t identical = 0;
-    double largest = 0.0, sum = 0.0;
+    Agreement agreement;
+    const bool classify = backend_options->masks == lut::MaskMode::Exact || (*method == Method::Embree && *compare == Method::Embree);
+    std::optional<GrazingTest> grazing;
+    if (classify) grazing.emplace(scene, *rays);
     {
       ProgressBar bar(std::string("compare ") + method_name(*compare));
       const std::span<const Receiver> all(result->receivers);
       for (std::size_t begin = 0; begin < all.size(); begin += bake::kBatch) {
-        const std::size_t count = std::min(bake::kBatch, all.size() - begin);
-        const std::vector<float> other = compare_ao(all.subspan(begin, count), {});
-        for (std::size_t i = 0; i < count; ++i) {
-          const double d = std::abs(static_cast<double>(other[i]) - result->ao[begin + i]);
-          identical += d == 0.0 ? 1 : 0;
-          largest = std::max(largest, d);
-          sum += d;
-        }
+        const std::span<const Receiver> batch = all.subspan(begin, std::min(bake::kBatch, all.size() - begin));
+        const auto start = std::chrono::steady_clock::now();
+        const MaskSet reference = backends->run(*compare, *rays, engine ? &*engine : nullptr, batch, {});
+        compare_time.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        const MaskSet mine = backends->run(*method, *rays, engine ? &*engine : nullptr, batch, {});
+        agreement += compare_masks(reference, mine, batch, *rays, grazing ? &*grazing : nullptr);
       }
     }
     throughput(*compare, compare_time.seconds);
-    const double n = static_cast<double>(std::max<std::size_t>(1, result->receivers.size()));
-    std::printf("  %s vs %s: %.2f%% of receivers identical, mean |dAO| %.5f, max %.4f; %s is %.2fx the speed of %s\n",
-                method_name(*method), method_name(*compare), 100.0 * static_cast<double>(identical) / n, sum / n, largest,
-                method_name(*method), main_time.seconds > 0.0 ? compare_time.seconds / main_time.seconds : 0.0,
-                method_name(*compare));
+    print_agreement(method_name(*method), method_name(*compare), agreement);
+    std::printf("  %s is %.2fx the speed of %s\n", method_name(*method),
+                main_time.seconds > 0.0 ? compare_time.seconds / main_time.seconds : 0.0, method_name(*compare));
   }
 
   std::string files;
@@ -279,7 +293,7 @@ Command add_bake_command(CLI::App& app) {
   command->add_option("--preview", options->preview,
                       "PNG picture of the baked AO from the camera options (default <output stem>-preview.png; '' for none)");
   command->add_option("--compare", options->compare,
-                      "Also time this method (embree, brute, bvh) on the same receivers and report how the answers agree");
+                      "Also time this method (embree, brute, bvh) on the same receivers and report how the answers agree, ray by ray");
   return [options, command]() { return command->parsed() ? run_bake(*options) : -1; };
 }
 

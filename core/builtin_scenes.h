@@ -25,5 +25,11 @@ namespace exao {
 /// wall is not (over 1.4 away). The box's triangles come last, so removing it (box = false)
 /// leaves every other triangle's index; wall = false removes the wall.
 [[nodiscard]] Scene make_hidden_box(bool box = true, bool wall = true);
+/// The cases of the surface rule (docs/surface-rule.md) on a 4 x 1.5 x 4 corner: a floor and two
+/// walls meeting at the origin, a box on the floor and one against a wall (faces in the planes
+/// of the floor and the wall), and two two-sided quads through each other, one tilted. Grid
+/// vertices every 0.25, all exact in float, on every corner, edge and crossing line, so vertex
+/// receivers (and offset 0) start exactly in the planes of their neighbours. Has a camera.
+[[nodiscard]] Scene make_corners();
 
 }  // namespace exao

@@ -309,6 +309,7 @@ template <int Bits>
         counters->near_samples += static_cast<std::uint64_t>(tested);
       }
       if (mask.none()) return mask;
+      if (origin_on_plane(triangles.v0[t], triangles.v1[t], triangles.v2[t], frame.origin)) return {};  // 6b
       const SphereTest clip = make_sphere_test(centre, triangles.radius[t], ctx.radius, kTriangleMargin);
       if (clip.kind == SphereTest::Kind::All) return mask;
       Mask<Bits> clipped;
@@ -342,6 +343,12 @@ template <int Bits>
     mask &= cluster_bits<Bits>(clusters);
   }
   if (mask.none()) return mask;
+
+  // 6b. The surface rule (core/surface_rule.h, docs/surface-rule.md): a triangle whose plane p'
+  //     lies on blocks nothing. Decided on the stored world floats, not on d above (the frame's
+  //     rounding moves d off 0), so Embree's filter reaches the same answer; only triangles that
+  //     set a bit get here, and its place in the steps does not change the bits.
+  if (origin_on_plane(triangles.v0[t], triangles.v1[t], triangles.v2[t], frame.origin)) return {};
 
   // 7. The clip by the triangle's own sphere (nothing to clip when the origin is inside it).
   const SphereTest clip = make_sphere_test(centre, triangles.radius[t], ctx.radius, kTriangleMargin);

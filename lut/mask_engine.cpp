@@ -3,6 +3,8 @@
 #include <cmath>
 #include <utility>
 
+#include "core/surface_rule.h"
+
 namespace exao::lut {
 
 const char* mask_mode_name(MaskMode mode) {

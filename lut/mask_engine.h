@@ -116,6 +116,8 @@ class MaskEngine {
   ///     reach (Exact). The edge normals stay unnormalised: a plane through the origin tests the
   ///     same points at any scale. A (near-)zero edge normal (an edge through the origin, or a
   ///     product under 1e-30, far from the denormals where FTZ could matter) blocks nothing;
+  ///  6b. the origin on the triangle's plane (core/surface_rule.h: such a triangle blocks no
+  ///     ray), decided by origin_on_plane on the world-space floats;
   ///  7. AND region_mask(the triangle's sphere, kTriangleMargin): a table mask can carry bits far
   ///     from the triangle (a sliver's discretised edge planes), and this clip is what makes
   ///     every bounding region's mask (same function, bigger sphere, bigger margin) a superset.

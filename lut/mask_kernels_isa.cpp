@@ -8,6 +8,7 @@
 
 #include <immintrin.h>
 
+#include "core/surface_rule.h"
 #include "lut/mask_kernels.h"
 #include "lut/sphere_test.h"
 

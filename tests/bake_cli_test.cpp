@@ -122,6 +122,19 @@ TEST(BakeCli, TextureBakeWritesMapsBesideTheGltf) {
   EXPECT_EQ(header[25], 0);
 }
 
+// --compare with exact masks prints the agreement ray by ray, and sorts the rays that differ
+// into grazing or not (docs/surface-rule.md): on `corners`, vertex receivers on every corner
+// and edge, none may differ but by grazing.
+TEST(BakeCli, CompareWithExactMasksReportsGrazingRays) {
+  test::TempDir dir;
+  const CommandResult result =
+      exao("bake corners -n 64 --masks exact --compare embree --preview '' -o " + quote(dir / "c.glb"));
+  ASSERT_EQ(result.status, 0) << result.output;
+  EXPECT_NE(result.output.find("rays agree"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("grazing"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find(", 0 by a ray that does not graze"), std::string::npos) << result.output;
+}
+
 TEST(BakeCli, ObjInputIsConvertedToGlb) {
   test::TempDir dir;
   test::write_file(dir / "tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 3 4\nf 1 4 2\n");
