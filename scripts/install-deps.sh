@@ -8,6 +8,8 @@ packages=(
   libembree-dev libtbb-dev libglm-dev libopenexr-dev libtinygltf-dev nlohmann-json3-dev
   libcgal-dev libgmp-dev libmpfr-dev libboost-dev
   libpng-dev libcli11-dev
+  libdraco-dev libmeshoptimizer-dev
+  draco gltfpack
   libgtest-dev libgmock-dev libbenchmark-dev
 )
 
