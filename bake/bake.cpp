@@ -249,7 +249,7 @@ Result<BakeResult> bake_texture(Document& document, const BakeOptions& options, 
     if (!*read) {
       if (options.uv == UvMode::File) {
         return fail(primitive_label(model, prim) + " has no " + set_name +
-                    ": a texture bake needs UVs; use --uv auto or generate, or bake per vertex with --vertex" +
+                    ": a texture bake needs UVs; bake per vertex with --vertex, or use --uv auto or generate" +
                     (options.uv_set == 0 ? std::string() : ", or choose another --uv-set"));
       }
       u.generated = true;
@@ -273,7 +273,7 @@ Result<BakeResult> bake_texture(Document& document, const BakeOptions& options, 
       std::snprintf(range, sizeof range, "(%.3g, %.3g) to (%.3g, %.3g)", figures.lo.x, figures.lo.y, figures.hi.x, figures.hi.y);
       return fail(primitive_label(model, prim) + ": " + set_name + through + " runs from " + range +
                   ", outside [0, 1]; an AO map needs every triangle inside the texture (tiling UVs cannot hold AO): "
-                  "use --uv auto or generate, or bake per vertex with --vertex");
+                  "bake per vertex with --vertex, or use --uv auto or generate");
     }
     if (options.uv == UvMode::Auto && !reason.empty()) {
       u.generated = true;

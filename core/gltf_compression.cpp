@@ -42,18 +42,39 @@ bool is_fallback(const nlohmann::json& buffer) {
   return false;
 }
 
-// Gives each URI-less meshopt fallback buffer the placeholder; false when there is none (or the
-// JSON does not parse: tinygltf will then say why).
-bool patch_fallbacks(std::string& json_text) {
-  if (json_text.find("fallback") == std::string::npos) return false;
+// Makes a compressed file loadable by tinygltf 2.7, which rejects two things the extensions
+// allow: a URI-less meshopt fallback buffer gets the placeholder, and a Draco primitive's index
+// accessor without a buffer view ("accessor[i] invalid bufferView") points at the Draco stream's
+// view, which decode_compression replaces before anything reads it. False when nothing changed
+// (or the JSON does not parse: tinygltf will then say why).
+bool patch_for_tinygltf(std::string& json_text) {
+  if (json_text.find("fallback") == std::string::npos && json_text.find(kDraco) == std::string::npos) return false;
   nlohmann::ordered_json json = nlohmann::ordered_json::parse(json_text, nullptr, false);
-  if (json.is_discarded() || !json.is_object() || !json.contains("buffers") || !json["buffers"].is_array()) return false;
+  if (json.is_discarded() || !json.is_object()) return false;
   bool changed = false;
-  for (auto& buffer : json["buffers"]) {
-    if (!is_fallback(buffer)) continue;
-    buffer["uri"] = kPlaceholderUri;
-    buffer["byteLength"] = kPlaceholderLength;
-    changed = true;
+  if (json.contains("buffers") && json["buffers"].is_array()) {
+    for (auto& buffer : json["buffers"]) {
+      if (!is_fallback(buffer)) continue;
+      buffer["uri"] = kPlaceholderUri;
+      buffer["byteLength"] = kPlaceholderLength;
+      changed = true;
+    }
+  }
+  if (json.contains("meshes") && json["meshes"].is_array() && json.contains("accessors") && json["accessors"].is_array()) {
+    auto& accessors = json["accessors"];
+    for (auto& mesh : json["meshes"]) {
+      if (!mesh.is_object() || !mesh.contains("primitives") || !mesh["primitives"].is_array()) continue;
+      for (auto& prim : mesh["primitives"]) {
+        if (!prim.is_object() || !prim.contains("indices") || !prim["indices"].is_number_unsigned()) continue;
+        if (!prim.contains("extensions") || !prim["extensions"].is_object()) continue;
+        const auto draco = prim["extensions"].find(std::string(kDraco));
+        if (draco == prim["extensions"].end() || !draco->is_object() || !draco->contains("bufferView")) continue;
+        const std::size_t index = prim["indices"].get<std::size_t>();
+        if (index >= accessors.size() || !accessors[index].is_object() || accessors[index].contains("bufferView")) continue;
+        accessors[index]["bufferView"] = (*draco)["bufferView"];
+        changed = true;
+      }
+    }
   }
   if (changed) json_text = json.dump();
   return changed;
@@ -447,7 +468,7 @@ bool load_file(tinygltf::TinyGLTF& context, tinygltf::Model& model, std::string&
       const std::size_t json_length = read32(bytes, 12);
       if (read32(bytes, 16) == 0x4E4F534Au && json_length <= bytes.size() - 20) {
         std::string json(bytes.begin() + 20, bytes.begin() + 20 + static_cast<std::ptrdiff_t>(json_length));
-        if (patch_fallbacks(json)) {
+        if (patch_for_tinygltf(json)) {
           json.resize((json.size() + 3) / 4 * 4, ' ');
           std::vector<unsigned char> rebuilt;
           const std::size_t rest = (20 + json_length + 3) / 4 * 4;  // the BIN chunk, as it was
@@ -470,7 +491,7 @@ bool load_file(tinygltf::TinyGLTF& context, tinygltf::Model& model, std::string&
     return context.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), static_cast<unsigned int>(bytes.size()), base_dir);
   }
   std::string json(bytes.begin(), bytes.end());
-  patch_fallbacks(json);
+  patch_for_tinygltf(json);
   if (json.size() > std::numeric_limits<unsigned int>::max()) {
     err = "file is larger than 4 GiB";
     return false;

@@ -22,10 +22,11 @@
 namespace exao::gltf {
 
 /// Reads `path` into `model` as tinygltf's LoadBinaryFromFile / LoadASCIIFromFile do (`binary`:
-/// a GLB container), except that a meshopt fallback buffer without a URI, which tinygltf 2.7
-/// cannot load (it would take its bytes from the GLB's BIN chunk, or fail to open ""), is given
-/// a 3-byte placeholder: its bytes are never read, since decode_compression replaces every view
-/// that refers to it. Returns tinygltf's result; its messages are in err and warn.
+/// a GLB container), except for two things compressed files do that tinygltf 2.7 refuses: a
+/// meshopt fallback buffer without a URI (it would take its bytes from the GLB's BIN chunk, or
+/// fail to open "") gets a 3-byte placeholder, and a Draco index accessor without a buffer view
+/// gets the Draco stream's view. Neither is ever read: decode_compression replaces both. Returns
+/// tinygltf's result; its messages are in err and warn.
 [[nodiscard]] bool load_file(tinygltf::TinyGLTF& context, tinygltf::Model& model, std::string& err, std::string& warn,
                              const std::string& path, bool binary);
 

@@ -226,10 +226,12 @@ TEST(BakeCli, BadInputGetsOneClearLine) {
   write_triangles(dir / "tiling.gltf", true, 2.0f);
   write_triangles(dir / "fine.gltf", true);
   const std::string n = " -n 32 --preview '' ";
-  expect_one_line_error(exao("bake " + quote(dir / "plain.gltf") + n + "--texture 64 -o " + quote(dir / "a.glb")),
+  expect_one_line_error(exao("bake " + quote(dir / "plain.gltf") + n + "--texture 64 --uv file -o " + quote(dir / "a.glb")),
                         "has no TEXCOORD_0: a texture bake needs UVs; bake per vertex with --vertex");
-  expect_one_line_error(exao("bake " + quote(dir / "tiling.gltf") + n + "--texture 64 -o " + quote(dir / "a.glb")),
+  expect_one_line_error(exao("bake " + quote(dir / "tiling.gltf") + n + "--texture 64 --uv file -o " + quote(dir / "a.glb")),
                         "outside [0, 1]");
+  expect_one_line_error(exao("bake " + quote(dir / "fine.gltf") + n + "--texture 64 --uv sometimes -o " + quote(dir / "a.glb")),
+                        "--uv: must be auto, file or generate");
   expect_one_line_error(exao("bake " + quote(dir / "fine.gltf") + n + "-o " + quote(dir / "fine.gltf")),
                         "refusing to overwrite");
   expect_one_line_error(exao("bake " + quote(dir / "fine.gltf") + n + "-o " + quote(dir / "nowhere" / "a.glb")),
