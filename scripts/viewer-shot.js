@@ -73,7 +73,9 @@ try {
   const w = config.width / config.count;
   const camera = new THREE.PerspectiveCamera(35, w / config.height, radius / 100, radius * 100);
   const az = config.view[0] * Math.PI / 180, el = config.view[1] * Math.PI / 180;
-  const distance = radius / Math.sin(camera.fov * Math.PI / 360) * 1.05;
+  // The bounding sphere fills the narrower of the two fields of view, less a margin.
+  const vfov = camera.fov * Math.PI / 180, hfov = 2 * Math.atan(Math.tan(vfov / 2) * camera.aspect);
+  const distance = radius / Math.sin(Math.min(vfov, hfov) / 2) * 0.82;
   camera.position.set(centre.x + distance * Math.cos(el) * Math.sin(az), centre.y + distance * Math.sin(el),
                       centre.z + distance * Math.cos(el) * Math.cos(az));
   camera.lookAt(centre);
