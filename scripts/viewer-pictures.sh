@@ -40,10 +40,10 @@ if [ "$installed" != "$three_version $playwright_version" ]; then
   npm install --prefix "$tools" --no-audit --no-fund --loglevel=error "three@$three_version" "playwright-core@$playwright_version"
 fi
 
-# The bake: per texel at 1024^2, with --uv auto (the truck's glass and trim have no UV area) and
+# The bake: per texel at 512^2, with --uv auto (the truck's glass and trim have no UV area) and
 # a ground plane for the contact shadow under the wheels.
-"$build/cli/exao" bake "$truck" --texture 1024 -n 256 --ground --preview '' -o "$tools/out/truck-ao.glb"
+"$build/cli/exao" bake "$truck" --texture 512 -n 128 --ground --preview '' -o "$tools/out/truck-ao.glb"
 
 node "$here/scripts/viewer-shot.js" --modules "$tools" --out "$here/docs/truck-viewer.png" --width 1600 --height 640 \
-  --view 40,18 --label "CesiumMilkTruck as it comes" --label "after exao bake --texture 1024 --ground" \
+  --view 40,18 --label "CesiumMilkTruck as it comes" --label "after exao bake --texture 512 --ground" \
   "$truck" "$tools/out/truck-ao.glb"
