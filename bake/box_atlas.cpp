@@ -63,8 +63,17 @@ bool interiors_overlap(const Flat& a, const Flat& b, double eps) {
 class ChartGrid {
  public:
   explicit ChartGrid(double cell) : cell_(cell) {}
-  void clear() { cells_.clear(); }
+  void clear() {
+    cells_.clear();
+    big_.clear();
+    all_.clear();
+  }
   [[nodiscard]] bool overlaps(const Flat& t, std::span<const Flat> flats, double eps) const {
+    // A big candidate is tested against everything; others against the big ones and their cells.
+    for (const std::uint32_t other : span(t) > kMaxSpan ? all_ : big_) {
+      if (interiors_overlap(t, flats[other], eps)) return true;
+    }
+    if (span(t) > kMaxSpan) return false;
     bool hit = false;
     visit(t, [&](const std::vector<std::uint32_t>* cell) {
       if (cell == nullptr || hit) return;
@@ -78,18 +87,30 @@ class ChartGrid {
     return hit;
   }
   void add(const Flat& t, std::uint32_t id) {
+    all_.push_back(id);
+    if (span(t) > kMaxSpan) {
+      big_.push_back(id);  // tested against every candidate rather than listed in many cells
+      return;
+    }
     visit_keys(t, [&](std::uint64_t key) { cells_[key].push_back(id); });
   }
 
  private:
+  static constexpr std::int64_t kMaxSpan = 64;  // cells per side a listed triangle may cover
+  // Cells a triangle's bounding box covers along its longer side.
+  [[nodiscard]] std::int64_t span(const Flat& t) const {
+    const glm::dvec2 lo = glm::min(glm::min(t[0], t[1]), t[2]), hi = glm::max(glm::max(t[0], t[1]), t[2]);
+    return static_cast<std::int64_t>(std::max(hi.x - lo.x, hi.y - lo.y) / cell_) + 1;
+  }
+  // Calls f for every cell the triangle's bounding box covers (only for triangles of at most
+  // kMaxSpan cells a side: bigger ones are kept in big_ and tested directly).
   template <class F>
   void visit_keys(const Flat& t, F&& f) const {
     const glm::dvec2 lo = glm::min(glm::min(t[0], t[1]), t[2]), hi = glm::max(glm::max(t[0], t[1]), t[2]);
     const auto x0 = static_cast<std::int64_t>(std::floor(lo.x / cell_)), x1 = static_cast<std::int64_t>(std::floor(hi.x / cell_));
     const auto y0 = static_cast<std::int64_t>(std::floor(lo.y / cell_)), y1 = static_cast<std::int64_t>(std::floor(hi.y / cell_));
-    // A triangle far larger than a cell is listed in at most 64 x 64 cells: the cells clamp.
-    for (std::int64_t y = y0; y <= std::min(y1, y0 + 63); ++y) {
-      for (std::int64_t x = x0; x <= std::min(x1, x0 + 63); ++x) {
+    for (std::int64_t y = y0; y <= y1; ++y) {
+      for (std::int64_t x = x0; x <= x1; ++x) {
         f(static_cast<std::uint64_t>(x) * 0x9E3779B97F4A7C15ull ^ static_cast<std::uint64_t>(y));
       }
     }
@@ -103,6 +124,7 @@ class ChartGrid {
   }
   double cell_;
   std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> cells_;
+  std::vector<std::uint32_t> big_, all_;
 };
 
 // Shelf packing at `scale` (uv per world unit): tallest charts first, left to right, a new shelf

@@ -540,13 +540,13 @@ Result<std::vector<std::string>> decode_compression(tinygltf::Model& model) {
     drop_extension(model.extensionsUsed, kDraco);
     drop_extension(model.extensionsRequired, kDraco);
     notes.push_back(std::string(kDraco) + ": " + std::to_string(draco_primitives) +
-                    " primitive(s) decoded with Draco; written out uncompressed");
+                    " primitive(s) decoded with Draco (a bake writes them uncompressed, without the extension)");
   }
   for (const auto& [name, count] : meshopt_views) {
     drop_extension(model.extensionsUsed, name);
     drop_extension(model.extensionsRequired, name);
     notes.push_back(name + ": " + std::to_string(count) +
-                    " buffer view(s) decoded with meshoptimizer; written out uncompressed");
+                    " buffer view(s) decoded with meshoptimizer (a bake writes them uncompressed, without the extension)");
   }
   return notes;
 }
