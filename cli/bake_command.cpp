@@ -6,10 +6,10 @@
 #include <cmath>
 #include <cstdio>
 #include <exception>
-#include <string>
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <string>
 
 #include <fcntl.h>
 #include <unistd.h>

@@ -188,6 +188,12 @@ TEST_F(Validator, PassesOnEveryBake) {
       {"OrientationTest/glTF-Binary/OrientationTest.glb", "", "orientation.glb"},
       {"Fox/glTF/Fox.gltf", "--texture 128", "fox.gltf"},
       {"AlphaBlendModeTest/glTF/AlphaBlendModeTest.gltf", "--texture 64", "alpha.glb"},
+      // Generated AO UV sets (issue 15): quantised attributes, skins and instancing copied along
+      // the split vertices, and the ground plane.
+      {"Duck/glTF-Quantized/Duck.gltf", "--texture 128", "duck-quantized-texture.gltf"},
+      {"Fox/glTF/Fox.gltf", "--texture 128 --uv generate", "fox-generated.glb"},
+      {"SimpleInstancing/glTF/SimpleInstancing.gltf", "--texture 64 --uv generate", "instancing-generated.gltf"},
+      {"Box/glTF-Binary/Box.glb", "--texture 64 --ground", "box-ground.glb"},
   };
   test::TempDir dir;
   std::size_t validated = 0;
