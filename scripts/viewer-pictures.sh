@@ -1,13 +1,14 @@
 #!/usr/bin/env bash
-# The README's viewer picture: CesiumMilkTruck before and after `exao bake --texture`, in a real
-# glTF viewer (three.js in headless Chromium, scripts/viewer-shot.js), side by side.
+# The README's viewer pictures, in a real glTF viewer (three.js in headless Chromium,
+# scripts/viewer-shot.js): CesiumMilkTruck before and after `exao bake --texture --ground`, and
+# Duck baked on its own stacked UVs (--uv file) and on a generated set (--uv auto).
 #
 # Usage: scripts/viewer-pictures.sh [BUILD_DIR] [SCENES_DIR]
 #   (defaults: build/ and ../shared/scenes beside the repository)
 # Needs a built exao (BUILD_DIR/cli/exao). Installs, once: Debian's chromium with apt-get (as
 # root, when missing) and three + playwright-core from the npm registry into BUILD_DIR/tools/viewer
-# (nothing global, nothing at build time). Writes docs/truck-viewer.png and leaves the bake in
-# BUILD_DIR/tools/viewer/out/.
+# (nothing global, nothing at build time). Writes docs/truck-viewer.png and docs/duck-viewer.png
+# and leaves the bakes in BUILD_DIR/tools/viewer/out/.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="$(cd "${1:-$here/build}" && pwd)"
@@ -17,7 +18,10 @@ three_version="0.160.0"
 playwright_version="1.49.1"
 
 truck="$scenes/CesiumMilkTruck/glTF/CesiumMilkTruck.gltf"
-[ -f "$truck" ] || { echo "viewer-pictures: $truck not found (pass the scenes folder)" >&2; exit 1; }
+duck="$scenes/Duck/glTF-Binary/Duck.glb"
+for f in "$truck" "$duck"; do
+  [ -f "$f" ] || { echo "viewer-pictures: $f not found (pass the scenes folder)" >&2; exit 1; }
+done
 [ -x "$build/cli/exao" ] || { echo "viewer-pictures: $build/cli/exao not found: build exao first" >&2; exit 1; }
 
 if ! command -v chromium >/dev/null; then
@@ -47,3 +51,9 @@ fi
 node "$here/scripts/viewer-shot.js" --modules "$tools" --out "$here/docs/truck-viewer.png" --width 1600 --height 640 \
   --view 40,18 --label "CesiumMilkTruck as it comes" --label "after exao bake --texture 512 --ground" \
   "$truck" "$tools/out/truck-ao.glb"
+
+"$build/cli/exao" bake "$duck" --texture 512 -n 128 --uv file --preview '' -o "$tools/out/duck-file.glb"
+"$build/cli/exao" bake "$duck" --texture 512 -n 128 --preview '' -o "$tools/out/duck-auto.glb"
+node "$here/scripts/viewer-shot.js" --modules "$tools" --out "$here/docs/duck-viewer.png" --width 1500 --height 600 \
+  --view 60,10 --label "Duck as it comes" --label "baked on its own UVs (--uv file)" --label "baked with --uv auto" \
+  "$duck" "$tools/out/duck-file.glb" "$tools/out/duck-auto.glb"
