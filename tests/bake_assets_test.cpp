@@ -187,6 +187,35 @@ TEST(UvAuto, TruckDegenerateUvPartsGetAo) {
     EXPECT_LT(sum / static_cast<double>(n), 0.97) << map.label;
   }
   EXPECT_GT(generated_maps, 0u);
+
+  // In the file: every occlusionTexture reads a set its primitives have, the generated ones
+  // TEXCOORD_1, and the truck keeps its triangles.
+  auto document = bake::Document::open(path.string());
+  ASSERT_TRUE(document);
+  const BvhAo ao(document->scene(), 0.05f * document->scene().bounds().diagonal(), 32);
+  bake::BakeOptions options;
+  options.target = bake::Target::Texture;
+  options.texture_size = size;
+  auto result = bake::bake(*document, options, ao.function());
+  ASSERT_TRUE(result) << result.error().message;
+  test::TempDir dir;
+  std::vector<std::string> notes;
+  ASSERT_TRUE(bake::save(*document, *result, {(dir / "truck.glb").string()}, notes));
+  const tinygltf::Model model = load_model(dir / "truck.glb");
+  std::size_t reading_set_1 = 0;
+  for (const tinygltf::Mesh& mesh : model.meshes) {
+    for (const tinygltf::Primitive& prim : mesh.primitives) {
+      ASSERT_GE(prim.material, 0);
+      const int set = model.materials[static_cast<std::size_t>(prim.material)].occlusionTexture.texCoord;
+      EXPECT_GE(model.materials[static_cast<std::size_t>(prim.material)].occlusionTexture.index, 0);
+      EXPECT_EQ(prim.attributes.count("TEXCOORD_" + std::to_string(set)), 1u) << mesh.name;
+      reading_set_1 += set == 1 ? 1 : 0;
+    }
+  }
+  EXPECT_GT(reading_set_1, 0u);
+  auto reread = load_scene((dir / "truck.glb").string());
+  ASSERT_TRUE(reread) << reread.error().message;
+  EXPECT_EQ(reread->triangle_count(), document->scene().triangle_count());
 }
 
 // Texels where two triangles put surface points more than 10% of the diagonal apart (each
