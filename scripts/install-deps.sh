@@ -9,7 +9,7 @@ packages=(
   libcgal-dev libgmp-dev libmpfr-dev libboost-dev
   libpng-dev libcli11-dev
   libdraco-dev libmeshoptimizer-dev
-  draco gltfpack
+  draco gltfpack  # command-line encoders: the tests make Draco and meshopt files with them
   libgtest-dev libgmock-dev libbenchmark-dev
 )
 
