@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
+#include <cstdio>
 #include <cstring>
 #include <exception>
 #include <filesystem>
@@ -11,6 +12,8 @@
 #include "bake/document_impl.h"
 #include "bake/gltf_access.h"
 #include "bake/scene_to_gltf.h"
+#include "core/gltf_compression.h"
+#include "core/ground_plane.h"
 #include "core/load_scene.h"
 
 namespace exao::bake {
@@ -50,13 +53,9 @@ Result<std::unique_ptr<Document::Impl>> read_gltf(const std::string& path) {
   std::string err;
   std::string warn;
   const bool binary = starts_with_glb_magic(path);
-  const bool ok = binary ? context.LoadBinaryFromFile(&impl->model, &err, &warn, path)
-                         : context.LoadASCIIFromFile(&impl->model, &err, &warn, path);
+  const bool ok = gltf::load_file(context, impl->model, err, warn, path, binary);
   if (!ok) return fail(one_line(err));
   impl->image_bytes.resize(impl->model.images.size());
-  auto walk = walk_model(impl->model);
-  if (!walk) return std::unexpected(walk.error());
-  impl->walk = std::move(*walk);
   impl->from_gltf = true;
   impl->source_path = path;
   impl->base_folder = std::filesystem::path(path).parent_path().string();
@@ -70,6 +69,14 @@ Result<std::unique_ptr<Document::Impl>> read_gltf(const std::string& path) {
     }
   }
   impl->embedded_buffers = all_embedded;
+  // Decoded after the input's files are listed (decoding merges the buffers into one), before
+  // the walk reads any accessor; the save then writes plain buffers.
+  auto decoded = gltf::decode_compression(impl->model);
+  if (!decoded) return std::unexpected(decoded.error());
+  impl->notes.insert(impl->notes.end(), decoded->begin(), decoded->end());
+  auto walk = walk_model(impl->model);
+  if (!walk) return std::unexpected(walk.error());
+  impl->walk = std::move(*walk);
   for (std::size_t i = 0; i < impl->model.images.size(); ++i) {
     const tinygltf::Image& image = impl->model.images[i];
     if (image.uri.empty() || is_data_uri(image.uri)) continue;
@@ -109,6 +116,21 @@ Result<Document> Document::from_scene(const Scene& scene, const ConvertOptions& 
   return Document(std::move(impl));
 }
 
+namespace {
+
+Result<Document> with_ground(Result<Document> document, const ConvertOptions& convert) {
+  if (!document || !convert.ground) return document;
+  Result<float> height = add_ground_plane(document->scene(), convert.ground_height);
+  if (!height) return fail(document->name() + ": " + height.error().message);
+  char note[160];
+  std::snprintf(note, sizeof note, "ground plane at y = %g%s: an occluder only (no receivers, not written out)",
+                static_cast<double>(*height), convert.ground_height ? "" : " (the lowest point)");
+  document->impl().notes.emplace_back(note);
+  return document;
+}
+
+}  // namespace
+
 Result<Document> Document::open(const std::string& name_or_path, const ConvertOptions& convert) {
   const std::string ext = lower_extension(name_or_path);
   const std::vector<std::string> builtins = builtin_scene_names();
@@ -118,7 +140,7 @@ Result<Document> Document::open(const std::string& name_or_path, const ConvertOp
     if (!scene) return std::unexpected(scene.error());
     Result<Document> document = from_scene(*scene, convert);
     if (document && !builtin) document->impl_->input_files.push_back(name_or_path);
-    return document;
+    return with_ground(std::move(document), convert);
   }
   Result<std::unique_ptr<Impl>> impl;
   // tinygltf and the standard library may throw (bad_alloc on a hostile count, json errors).
@@ -132,7 +154,7 @@ Result<Document> Document::open(const std::string& name_or_path, const ConvertOp
   if (!impl) return fail(name_or_path + ": " + impl.error().message);
   (*impl)->name = std::filesystem::path(name_or_path).stem().string();
   (*impl)->walk.scene.name = (*impl)->name;
-  return Document(std::move(*impl));
+  return with_ground(Document(std::move(*impl)), convert);
 }
 
 }  // namespace exao::bake

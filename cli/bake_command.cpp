@@ -5,9 +5,11 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <string>
 
 #include <fcntl.h>
 #include <unistd.h>
@@ -39,6 +41,9 @@ struct BakeCommandOptions {
   bool attribute = false;
   std::string normals = "geometric";
   int uv_set = 0;
+  std::string uv = "auto";
+  bool ground = false;                 // --ground given
+  std::string ground_value;            // "", "auto" or a height along +Y
   int texel_samples = 4;
   int margin = 4;
   int png_bits = 8;
@@ -113,6 +118,24 @@ int run_bake(const BakeCommandOptions& options) {
   bake_options.normals = options.normals == "file" ? bake::NormalSource::File : bake::NormalSource::Geometric;
   bake_options.texture_size = options.texture.value_or(1024);
   bake_options.uv_set = options.uv_set;
+  if (options.uv != "auto" && options.uv != "file" && options.uv != "generate") {
+    return report(Error{"--uv: must be auto, file or generate, got '" + options.uv + "'"});
+  }
+  bake_options.uv = options.uv == "file" ? bake::UvMode::File : options.uv == "generate" ? bake::UvMode::Generate : bake::UvMode::Auto;
+  std::optional<float> ground_height;
+  if (options.ground && !options.ground_value.empty() && options.ground_value != "auto") {
+    std::size_t used = 0;
+    float y = 0.0f;
+    try {
+      y = std::stof(options.ground_value, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used != options.ground_value.size() || !std::isfinite(y)) {
+      return report(Error{"--ground: must be auto or a height along +Y, got '" + options.ground_value + "'"});
+    }
+    ground_height = y;
+  }
   bake_options.texel_samples = options.texel_samples;
   bake_options.margin = options.margin;
   if (options.attribute && options.texture) return report(Error{"--attribute: only for vertex bakes"});
@@ -132,6 +155,8 @@ int run_bake(const BakeCommandOptions& options) {
     convert.atlas_size = *options.texture;
     convert.atlas_padding = 2 * options.margin + 2;
   }
+  convert.ground = options.ground;
+  convert.ground_height = ground_height;
   Result<bake::Document> document = bake::Document::open(options.scene.scene, convert);
   if (!document) return report(document.error());
   const Scene& scene = document->scene();
@@ -286,6 +311,14 @@ Command add_bake_command(CLI::App& app) {
                       "Receiver normals: geometric (area-weighted face normals) or file (the NORMAL attribute)")
       ->capture_default_str();
   command->add_option("--uv-set", options->uv_set, "Lay the maps out by TEXCOORD_K")->capture_default_str();
+  command->add_option("--uv", options->uv,
+                      "Texture bakes: UVs from the file's set (file), a chart atlas made for the bake (generate), or the "
+                      "file's set where it can hold AO and generated ones where not (auto)")
+      ->capture_default_str();
+  command->add_option("--ground", options->ground_value,
+                      "Add an occluding ground plane (never written out) at the model's lowest point (auto) or at height Y "
+                      "along +Y")
+      ->expected(0, 1);
   command->add_option("--texel-samples", options->texel_samples, "Receivers per texel: a square number (1 = texel centre)")
       ->capture_default_str();
   command->add_option("--margin", options->margin, "Dilation around each UV chart, texels")->capture_default_str();
@@ -294,7 +327,10 @@ Command add_bake_command(CLI::App& app) {
                       "PNG picture of the baked AO from the camera options (default <output stem>-preview.png; '' for none)");
   command->add_option("--compare", options->compare,
                       "Also time this method (embree, brute, bvh) on the same receivers and report how the answers agree, ray by ray");
-  return [options, command]() { return command->parsed() ? run_bake(*options) : -1; };
+  return [options, command]() {
+    options->ground = command->count("--ground") > 0;
+    return command->parsed() ? run_bake(*options) : -1;
+  };
 }
 
 }  // namespace exao::cli

@@ -30,6 +30,7 @@
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
+#include "core/gltf_compression.h"
 #include "core/gltf_model.h"
 #include "core/load_scene.h"
 
@@ -275,10 +276,13 @@ Result<Scene> load(const std::string& path) {
   std::string warn;
   // The container is told by its magic, not its name, so a mislabelled file still loads.
   const bool binary = starts_with_glb_magic(path);
-  const bool ok = binary ? context.LoadBinaryFromFile(&model, &err, &warn, path)
-                         : context.LoadASCIIFromFile(&model, &err, &warn, path);
+  const bool ok = load_file(context, model, err, warn, path, binary);
   if (!ok) return fail(one_line(err));
-  return build_scene(model);
+  auto decoded = decode_compression(model);  // Draco and meshopt: core/gltf_compression.h
+  if (!decoded) return std::unexpected(decoded.error());
+  Result<Scene> scene = build_scene(model);
+  if (scene) scene->report.notes.insert(scene->report.notes.end(), decoded->begin(), decoded->end());
+  return scene;
 }
 
 }  // namespace

@@ -37,11 +37,16 @@ struct Scene {
   /// beyond it, means opaque. Exact AO ignores it: every triangle blocks.
   std::vector<float> material_opacity;
   LoadReport report;
+  /// The last `ground_triangles` triangles are an added ground plane (core/ground_plane.h):
+  /// occluders like any other, left out of bounds() so that "5% of the diagonal" and camera
+  /// framing still mean the model's.
+  std::size_t ground_triangles = 0;
 
   [[nodiscard]] std::size_t triangle_count() const { return two_sided.size(); }
   [[nodiscard]] std::array<glm::vec3, 3> triangle(std::size_t i) const {
     return {vertices[3 * i], vertices[3 * i + 1], vertices[3 * i + 2]};
   }
+  /// Bounds of the triangles, the ground plane excepted.
   [[nodiscard]] Bounds bounds() const;
   /// Opacity of triangle i's material (material_opacity), 1 when it has none.
   [[nodiscard]] float opacity(std::size_t i) const {

@@ -201,6 +201,12 @@ TEST_F(Validator, PassesOnEveryBake) {
       {"OrientationTest/glTF-Binary/OrientationTest.glb", "", "orientation.glb"},
       {"Fox/glTF/Fox.gltf", "--texture 128", "fox.gltf"},
       {"AlphaBlendModeTest/glTF/AlphaBlendModeTest.gltf", "--texture 64", "alpha.glb"},
+      // Generated AO UV sets (issue 15): quantised attributes, skins and instancing copied along
+      // the split vertices, and the ground plane.
+      {"Duck/glTF-Quantized/Duck.gltf", "--texture 128", "duck-quantized-texture.gltf"},
+      {"Fox/glTF/Fox.gltf", "--texture 128 --uv generate", "fox-generated.glb"},
+      {"SimpleInstancing/glTF/SimpleInstancing.gltf", "--texture 64 --uv generate", "instancing-generated.gltf"},
+      {"Box/glTF-Binary/Box.glb", "--texture 64 --ground", "box-ground.glb"},
   };
   test::TempDir dir;
   std::size_t validated = 0;
@@ -239,10 +245,12 @@ TEST(BakeCli, BadInputGetsOneClearLine) {
   write_triangles(dir / "tiling.gltf", true, 2.0f);
   write_triangles(dir / "fine.gltf", true);
   const std::string n = " -n 32 --preview '' ";
-  expect_one_line_error(exao("bake " + quote(dir / "plain.gltf") + n + "--texture 64 -o " + quote(dir / "a.glb")),
+  expect_one_line_error(exao("bake " + quote(dir / "plain.gltf") + n + "--texture 64 --uv file -o " + quote(dir / "a.glb")),
                         "has no TEXCOORD_0: a texture bake needs UVs; bake per vertex with --vertex");
-  expect_one_line_error(exao("bake " + quote(dir / "tiling.gltf") + n + "--texture 64 -o " + quote(dir / "a.glb")),
+  expect_one_line_error(exao("bake " + quote(dir / "tiling.gltf") + n + "--texture 64 --uv file -o " + quote(dir / "a.glb")),
                         "outside [0, 1]");
+  expect_one_line_error(exao("bake " + quote(dir / "fine.gltf") + n + "--texture 64 --uv sometimes -o " + quote(dir / "a.glb")),
+                        "--uv: must be auto, file or generate");
   expect_one_line_error(exao("bake " + quote(dir / "fine.gltf") + n + "-o " + quote(dir / "fine.gltf")),
                         "refusing to overwrite");
   expect_one_line_error(exao("bake " + quote(dir / "fine.gltf") + n + "-o " + quote(dir / "nowhere" / "a.glb")),

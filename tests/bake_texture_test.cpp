@@ -307,6 +307,7 @@ TEST(BakeTexture, MissingOrTilingUvsAreClearErrors) {
   test::TempDir dir;
   bake::BakeOptions options;
   options.target = bake::Target::Texture;
+  options.uv = bake::UvMode::File;  // --uv auto (the default) would generate a set instead
   const auto never = [](std::span<const Receiver> r, const ProgressCallback&) {
     ADD_FAILURE() << "no AO is computed for bad input";
     return std::vector<float>(r.size(), 1.0f);
