@@ -43,6 +43,8 @@ struct BenchOptions {
   int repeats = 1;
   std::string json;
   std::string svg;
+  std::string markdown;
+  std::string label;
   bool stats = false;
 };
 
@@ -173,6 +175,7 @@ int run_bench(const BenchOptions& options) {
 
   BenchReport report_data;
   report_data.scene = options.scene.scene;
+  report_data.label = options.label.empty() ? options.scene.scene + " " + options.receivers : options.label;
   report_data.triangles = scene->triangle_count();
   report_data.receivers = pixels.receivers.size();
   report_data.threads = options.rays.threads > 0 ? options.rays.threads : tbb::info::default_concurrency();
@@ -253,6 +256,9 @@ int run_bench(const BenchOptions& options) {
   if (!options.svg.empty()) {
     if (auto ok = write_bench_svg(report_data, options.svg); !ok) return report(ok.error());
   }
+  if (!options.markdown.empty()) {
+    if (auto ok = write_bench_markdown(report_data, options.markdown); !ok) return report(ok.error());
+  }
   return 0;
 }
 
@@ -293,6 +299,8 @@ Command add_bench_command(CLI::App& app) {
       ->capture_default_str();
   command->add_option("--json", options->json, "Write the results as JSON");
   command->add_option("--svg", options->svg, "Write a bar chart of Mrays/s as SVG");
+  command->add_option("--markdown", options->markdown, "Write the results as a Markdown table");
+  command->add_option("--label", options->label, "The workload's name in the tables (default: scene and receivers)");
   command->add_flag("--stats", options->stats, "Add BVH work counters per receiver");
   return [options, command]() { return command->parsed() ? run_bench(*options) : -1; };
 }

@@ -59,6 +59,7 @@ void print_bench_row(const BenchRun& run, bool stats) {
 
 Result<void> write_bench_json(const BenchReport& report, const std::string& path) {
   nlohmann::json j;
+  j["label"] = report.label;
   j["scene"] = report.scene;
   j["triangles"] = report.triangles;
   j["receivers"] = report.receivers;
@@ -93,6 +94,31 @@ Result<void> write_bench_json(const BenchReport& report, const std::string& path
 }
 
 // Groups of bars, one group per (N, radius), one bar per method and mask mode, height Mrays/s.
+Result<void> write_bench_markdown(const BenchReport& report, const std::string& path) {
+  std::ostringstream md;
+  md << "| workload | N | r | method | Mrays/s | x embree | rays agreeing | receivers identical |\n"
+     << "|---|---|---|---|---|---|---|---|\n";
+  char line[512];
+  for (const BenchRun& run : report.runs) {
+    if (run.method == "embree" && run.speedup_vs_embree == 1.0) {
+      std::snprintf(line, sizeof line, "| %s | %d | %s | embree %s | %.1f | 1.00 | | |\n", report.label.c_str(),
+                    run.samples, run.radius_text.c_str(), run.masks.c_str(), run.mrays_per_s);
+    } else {
+      std::snprintf(line, sizeof line, "| %s | %d | %s | %s %s %s | %.1f | **%.2f** | %.4f%% | %.2f%% |\n",
+                    report.label.c_str(), run.samples, run.radius_text.c_str(), run.method.c_str(), run.masks.c_str(),
+                    run.isa.c_str(), run.mrays_per_s, run.speedup_vs_embree, 100.0 * run.ray_agreement,
+                    100.0 * run.identical_receivers);
+    }
+    md << line;
+  }
+  return write_atomically(path, [&](const std::string& temp) -> Result<void> {
+    std::ofstream out(temp);
+    out << md.str();
+    if (!out.flush()) return fail(path + ": write failed");
+    return {};
+  });
+}
+
 Result<void> write_bench_svg(const BenchReport& report, const std::string& path) {
   std::vector<std::string> groups, series;
   for (const BenchRun& run : report.runs) {
