@@ -22,13 +22,21 @@ namespace exao::bake {
 enum class Target { Vertex, Texture };
 enum class VertexChannel { Color, Attribute };  // COLOR_0 (multiplied into an existing one), or _AO
 enum class NormalSource { Geometric, File };     // area-weighted face normals, or the file's NORMAL
+/// Where a texture bake's UVs come from: the file's set (File), a chart atlas made for the bake
+/// (Generate: box projection, no overlaps, even texel density, padded; written as a new
+/// TEXCOORD_n that the occlusionTexture reads), or per primitive the file's set when it can hold
+/// AO and a generated one when it covers no area, overlaps itself on more than 1% of its area,
+/// leaves [0, 1] or is missing (Auto, the default). Every decision is reported in the notes.
+enum class UvMode { Auto, File, Generate };
 
 struct BakeOptions {
   Target target = Target::Vertex;
   VertexChannel channel = VertexChannel::Color;
   NormalSource normals = NormalSource::Geometric;
   int texture_size = 1024;     // texels per side of each AO map, 16 to 16384
-  int uv_set = 0;              // TEXCOORD_<uv_set> lays the maps out
+  int uv_set = 0;              // TEXCOORD_<uv_set> lays the maps out (seen through the KHR_texture_transform of
+                               // the slot AO shares: occlusionTexture, else metallicRoughnessTexture, else another)
+  UvMode uv = UvMode::Auto;
   int texel_samples = 4;       // receivers per texel: a square number (1 = the texel centre)
   int margin = 4;              // dilation rings around each chart, texels (0 to 64)
 };
@@ -60,7 +68,10 @@ struct BakeResult {
   /// Per part (a primitive as drawn by one node): vertex bakes hold the AO per vertex (1 where
   /// no triangle uses the vertex); texture bakes the UV per vertex and the part's map.
   std::vector<std::vector<float>> part_vertex_ao;
-  std::vector<std::vector<glm::vec2>> part_uv;
+  std::vector<std::vector<glm::vec2>> part_uv;         // empty for parts on generated UVs
+  /// Texture bakes: per part, the map UV of each triangle corner, three per triangle, in the
+  /// front-face order of ModelWalk::corners (file and generated UVs alike).
+  std::vector<std::vector<glm::vec2>> part_corner_uv;
   std::vector<int> part_map;
   std::size_t meshes_split = 0;      // vertex bakes: new meshes made for nodes whose AO differs
   std::vector<std::string> notes;    // one line each, for the user
@@ -69,11 +80,17 @@ struct BakeResult {
 /// Bakes: finds the receivers, asks `engine` about them (progress in receivers), and writes the
 /// result into the document's
 /// model (vertex: a COLOR_0 or _AO accessor per primitive, meshes split per node where their AO
-/// differs; texture: maps, and each material's occlusionTexture with texCoord = uv_set, its other
-/// textures kept). `engine` must be built from document.scene() for Receivers::Points. Fails,
-/// naming the problem, on bad options (naming the field: "texel_samples: ..."), a primitive
-/// without the UV set (the message suggests a vertex bake), or UVs outside [0, 1].
+/// differs; texture: maps, and each material's occlusionTexture with texCoord = the set laid out
+/// by and the KHR_texture_transform it was seen through, its other textures kept; primitives on
+/// generated UVs get their vertices split along chart seams and the new set). `engine` must be
+/// built from document.scene() for Receivers::Points. Fails, naming the problem, on bad options
+/// (naming the field: "texel_samples: ..."), or with UvMode::File a primitive without the UV set
+/// (the message suggests a vertex bake) or UVs outside [0, 1].
 [[nodiscard]] Result<BakeResult> bake(Document& document, const BakeOptions& options, const engine::Engine& engine,
                                       const ProgressCallback& progress = {});
+
+/// The receivers bake() would ask the engine about, in its order, without computing AO or
+/// changing the document (exao bench --receivers times methods on them). Fails as bake() does.
+[[nodiscard]] Result<std::vector<Receiver>> bake_receivers(Document& document, const BakeOptions& options);
 
 }  // namespace exao::bake

@@ -1,22 +1,15 @@
 #include "bake/box_atlas.h"
 
 #include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
 #include <limits>
 #include <numeric>
 #include <unordered_map>
 
 namespace exao::bake {
 namespace {
-
-struct UnionFind {
-  std::vector<std::uint32_t> parent;
-  explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
-  std::uint32_t find(std::uint32_t x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  }
-  void join(std::uint32_t a, std::uint32_t b) { parent[find(a)] = find(b); }
-};
 
 // 0..5: +X, -X, +Y, -Y, +Z, -Z, the axis the normal is closest to.
 int dominant_axis(const glm::vec3& n) {
@@ -39,6 +32,100 @@ glm::vec2 project(const glm::vec3& p, int axis) {
     default: return {p.x, p.y};
   }
 }
+
+using Flat = std::array<glm::dvec2, 3>;
+
+// Whether two projected triangles share interior points: by the separating axis theorem, two
+// convex polygons with disjoint interiors are separated along the normal of one of their edges.
+// Touching (a shared edge or corner) is not overlap; `eps` absorbs rounding of shared vertices.
+bool interiors_overlap(const Flat& a, const Flat& b, double eps) {
+  for (const Flat* t : {&a, &b}) {
+    for (int e = 0; e < 3; ++e) {
+      const glm::dvec2 d = (*t)[static_cast<std::size_t>((e + 1) % 3)] - (*t)[static_cast<std::size_t>(e)];
+      const glm::dvec2 n(-d.y, d.x);
+      double lo_a = std::numeric_limits<double>::infinity(), hi_a = -lo_a, lo_b = lo_a, hi_b = -lo_a;
+      for (int k = 0; k < 3; ++k) {
+        const double pa = glm::dot(n, a[static_cast<std::size_t>(k)]), pb = glm::dot(n, b[static_cast<std::size_t>(k)]);
+        lo_a = std::min(lo_a, pa);
+        hi_a = std::max(hi_a, pa);
+        lo_b = std::min(lo_b, pb);
+        hi_b = std::max(hi_b, pb);
+      }
+      const double tolerance = eps * glm::length(n);
+      if (hi_a <= lo_b + tolerance || hi_b <= lo_a + tolerance) return false;
+    }
+  }
+  return true;
+}
+
+// The projected triangles of one chart on a uniform grid, so that a candidate is tested only
+// against the triangles near it.
+class ChartGrid {
+ public:
+  explicit ChartGrid(double cell) : cell_(cell) {}
+  void clear() {
+    cells_.clear();
+    big_.clear();
+    all_.clear();
+  }
+  [[nodiscard]] bool overlaps(const Flat& t, std::span<const Flat> flats, double eps) const {
+    // A big candidate is tested against everything; others against the big ones and their cells.
+    for (const std::uint32_t other : span(t) > kMaxSpan ? all_ : big_) {
+      if (interiors_overlap(t, flats[other], eps)) return true;
+    }
+    if (span(t) > kMaxSpan) return false;
+    bool hit = false;
+    visit(t, [&](const std::vector<std::uint32_t>* cell) {
+      if (cell == nullptr || hit) return;
+      for (const std::uint32_t other : *cell) {
+        if (interiors_overlap(t, flats[other], eps)) {
+          hit = true;
+          return;
+        }
+      }
+    });
+    return hit;
+  }
+  void add(const Flat& t, std::uint32_t id) {
+    all_.push_back(id);
+    if (span(t) > kMaxSpan) {
+      big_.push_back(id);  // tested against every candidate rather than listed in many cells
+      return;
+    }
+    visit_keys(t, [&](std::uint64_t key) { cells_[key].push_back(id); });
+  }
+
+ private:
+  static constexpr std::int64_t kMaxSpan = 64;  // cells per side a listed triangle may cover
+  // Cells a triangle's bounding box covers along its longer side.
+  [[nodiscard]] std::int64_t span(const Flat& t) const {
+    const glm::dvec2 lo = glm::min(glm::min(t[0], t[1]), t[2]), hi = glm::max(glm::max(t[0], t[1]), t[2]);
+    return static_cast<std::int64_t>(std::max(hi.x - lo.x, hi.y - lo.y) / cell_) + 1;
+  }
+  // Calls f for every cell the triangle's bounding box covers (only for triangles of at most
+  // kMaxSpan cells a side: bigger ones are kept in big_ and tested directly).
+  template <class F>
+  void visit_keys(const Flat& t, F&& f) const {
+    const glm::dvec2 lo = glm::min(glm::min(t[0], t[1]), t[2]), hi = glm::max(glm::max(t[0], t[1]), t[2]);
+    const auto x0 = static_cast<std::int64_t>(std::floor(lo.x / cell_)), x1 = static_cast<std::int64_t>(std::floor(hi.x / cell_));
+    const auto y0 = static_cast<std::int64_t>(std::floor(lo.y / cell_)), y1 = static_cast<std::int64_t>(std::floor(hi.y / cell_));
+    for (std::int64_t y = y0; y <= y1; ++y) {
+      for (std::int64_t x = x0; x <= x1; ++x) {
+        f(static_cast<std::uint64_t>(x) * 0x9E3779B97F4A7C15ull ^ static_cast<std::uint64_t>(y));
+      }
+    }
+  }
+  template <class F>
+  void visit(const Flat& t, F&& f) const {
+    visit_keys(t, [&](std::uint64_t key) {
+      const auto it = cells_.find(key);
+      f(it == cells_.end() ? nullptr : &it->second);
+    });
+  }
+  double cell_;
+  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> cells_;
+  std::vector<std::uint32_t> big_, all_;
+};
 
 // Shelf packing at `scale` (uv per world unit): tallest charts first, left to right, a new shelf
 // when a row is full. Returns whether everything fits in [0, 1]^2; sets each chart's origin.
@@ -72,33 +159,72 @@ Result<AtlasMesh> box_atlas(std::span<const glm::vec3> positions, std::span<cons
     const glm::vec3 a = positions[triangles[3 * t]], b = positions[triangles[3 * t + 1]], c = positions[triangles[3 * t + 2]];
     axis[t] = dominant_axis(glm::cross(b - a, c - a));
   }
-  // Charts: triangles of one axis that share an edge.
-  UnionFind sets(count);
-  std::unordered_map<std::uint64_t, std::uint32_t> edge_owner;
-  edge_owner.reserve(count * 3);
-  for (std::size_t t = 0; t < count; ++t) {
-    for (int e = 0; e < 3; ++e) {
-      std::uint32_t u = triangles[3 * t + static_cast<std::size_t>(e)];
-      std::uint32_t v = triangles[3 * t + static_cast<std::size_t>((e + 1) % 3)];
-      if (u > v) std::swap(u, v);
-      // Keyed by axis too, so only same-axis neighbours join.
-      const std::uint64_t key = (static_cast<std::uint64_t>(u) << 32 | v) * 6u + static_cast<std::uint64_t>(axis[t]);
-      const auto [it, added] = edge_owner.emplace(key, static_cast<std::uint32_t>(t));
-      if (!added) sets.join(static_cast<std::uint32_t>(t), it->second);
+  // Charts grow from a seed across shared edges (vertices welded by position, so UV seams of
+  // the input do not cut them) to neighbours of the same axis whose projection does not overlap
+  // the chart's: so no chart folds onto itself, however the surface winds.
+  std::vector<std::uint32_t> weld(positions.size());
+  {
+    std::map<std::array<float, 3>, std::uint32_t> first;
+    for (std::size_t v = 0; v < positions.size(); ++v) {
+      weld[v] = first.try_emplace({positions[v].x, positions[v].y, positions[v].z}, static_cast<std::uint32_t>(v)).first->second;
     }
   }
-  std::vector<Chart> charts;
-  std::unordered_map<std::uint32_t, std::uint32_t> chart_of_root;
-  std::vector<std::uint32_t> chart_of(count);
+  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> edge_triangles;
+  edge_triangles.reserve(count * 3);
+  const auto edge_key = [&](std::size_t t, int e) {
+    std::uint32_t u = weld[triangles[3 * t + static_cast<std::size_t>(e)]];
+    std::uint32_t v = weld[triangles[3 * t + static_cast<std::size_t>((e + 1) % 3)]];
+    if (u > v) std::swap(u, v);
+    return static_cast<std::uint64_t>(u) << 32 | v;
+  };
   for (std::size_t t = 0; t < count; ++t) {
-    const std::uint32_t root = sets.find(static_cast<std::uint32_t>(t));
-    auto [it, added] = chart_of_root.emplace(root, static_cast<std::uint32_t>(charts.size()));
-    if (added) {
-      charts.emplace_back();
-      charts.back().axis = axis[t];
+    for (int e = 0; e < 3; ++e) edge_triangles[edge_key(t, e)].push_back(static_cast<std::uint32_t>(t));
+  }
+  std::vector<Flat> flats(count);
+  double extent_sum = 0.0;
+  glm::dvec3 lo3(std::numeric_limits<double>::infinity()), hi3(-std::numeric_limits<double>::infinity());
+  for (std::size_t t = 0; t < count; ++t) {
+    glm::dvec2 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+    for (std::size_t k = 0; k < 3; ++k) {
+      const glm::vec3& p = positions[triangles[3 * t + k]];
+      flats[t][k] = glm::dvec2(project(p, axis[t]));
+      lo = glm::min(lo, flats[t][k]);
+      hi = glm::max(hi, flats[t][k]);
+      lo3 = glm::min(lo3, glm::dvec3(p));
+      hi3 = glm::max(hi3, glm::dvec3(p));
     }
-    chart_of[t] = it->second;
-    charts[it->second].triangles.push_back(static_cast<std::uint32_t>(t));
+    extent_sum += std::max(hi.x - lo.x, hi.y - lo.y);
+  }
+  // Rounding of shared vertices, relative to the model's size.
+  const double eps = count == 0 ? 0.0 : 1e-7 * std::max(1e-30, glm::length(hi3 - lo3));
+  const double cell = count == 0 ? 1.0 : std::max(2.0 * extent_sum / static_cast<double>(count), 1e-30);
+  std::vector<Chart> charts;
+  constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+  std::vector<std::uint32_t> chart_of(count, kNone);
+  ChartGrid grid(cell);
+  std::vector<std::uint32_t> queue;
+  for (std::size_t seed = 0; seed < count; ++seed) {
+    if (chart_of[seed] != kNone) continue;
+    const auto c = static_cast<std::uint32_t>(charts.size());
+    charts.emplace_back();
+    charts.back().axis = axis[seed];
+    grid.clear();
+    queue.assign(1, static_cast<std::uint32_t>(seed));
+    chart_of[seed] = c;
+    grid.add(flats[seed], static_cast<std::uint32_t>(seed));
+    for (std::size_t q = 0; q < queue.size(); ++q) {
+      const std::uint32_t t = queue[q];
+      charts[c].triangles.push_back(t);
+      for (int e = 0; e < 3; ++e) {
+        for (const std::uint32_t n : edge_triangles[edge_key(t, e)]) {
+          if (chart_of[n] != kNone || axis[n] != charts[c].axis) continue;
+          if (grid.overlaps(flats[n], flats, eps)) continue;
+          chart_of[n] = c;
+          grid.add(flats[n], n);
+          queue.push_back(n);
+        }
+      }
+    }
   }
   double largest = 0.0;
   for (Chart& chart : charts) {

@@ -1,10 +1,12 @@
 #pragma once
-// A texture atlas for meshes that come without UVs (built-in scenes, OBJ and friends): box
-// projection. Each triangle goes to the axis its normal is closest to; edge-connected triangles
-// of one axis form a chart, projected flat onto that axis's plane (the projection is one-to-one
-// inside a chart because every normal there leans less than 55 degrees from the axis); charts
-// are packed on shelves into [0, 1]^2 at one common scale, so texel density is the same
-// everywhere, with `padding` texels between charts and around the border.
+// A texture atlas for meshes that come without usable UVs (built-in scenes, OBJ and friends, and
+// glTF primitives whose UVs cannot hold AO: `exao bake --uv generate|auto`): box projection.
+// Each triangle goes to the axis its normal is closest to; charts grow from a seed triangle
+// across shared edges (vertices welded by position) to neighbours of the same axis whose
+// projection onto that axis's plane does not overlap the chart's (a separating-axis test), so
+// no chart folds onto itself even where a surface winds round; charts are packed on shelves into
+// [0, 1]^2 at one common scale, so texel density is the same everywhere, with `padding` texels
+// between charts and around the border.
 
 #include <cstdint>
 #include <span>

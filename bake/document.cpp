@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
+#include <cstdio>
 #include <cstring>
 #include <exception>
 #include <filesystem>
@@ -12,6 +13,7 @@
 #include "bake/gltf_access.h"
 #include "bake/scene_to_gltf.h"
 #include "core/gltf_file.h"
+#include "core/ground_plane.h"
 #include "core/load_scene.h"
 
 namespace exao::bake {
@@ -37,27 +39,29 @@ bool is_data_uri(const std::string& uri) { return uri.rfind("data:", 0) == 0; }
 
 Result<std::unique_ptr<Document::Impl>> read_gltf(const std::string& path) {
   auto impl = std::make_unique<Document::Impl>();
-  Result<tinygltf::Model> model = gltf::read_file(path, &keep_image_bytes, &impl->image_bytes);
-  if (!model) return std::unexpected(model.error());
-  impl->model = std::move(*model);
-  const bool binary = gltf::is_glb(path);
+  Result<gltf::File> file = gltf::read_file(path, &keep_image_bytes, &impl->image_bytes);
+  if (!file) return std::unexpected(file.error());
+  impl->model = std::move(file->model);
   impl->image_bytes.resize(impl->model.images.size());
-  auto walk = walk_model(impl->model);
-  if (!walk) return std::unexpected(walk.error());
-  impl->walk = std::move(*walk);
   impl->from_gltf = true;
   impl->source_path = path;
   impl->base_folder = std::filesystem::path(path).parent_path().string();
   impl->input_files.push_back(path);
   const std::filesystem::path folder(impl->base_folder);
-  bool all_embedded = !binary && !impl->model.buffers.empty();
-  for (const tinygltf::Buffer& buffer : impl->model.buffers) {
-    if (!buffer.uri.empty() && !is_data_uri(buffer.uri)) {
+  // The input's files as it was written: decoding merged its buffers into one, and the save
+  // writes plain buffers.
+  bool all_embedded = !file->binary && !file->buffer_uris.empty();
+  for (const std::string& uri : file->buffer_uris) {
+    if (!uri.empty() && !is_data_uri(uri)) {
       all_embedded = false;
-      impl->input_files.push_back((folder / buffer.uri).string());
+      impl->input_files.push_back((folder / uri).string());
     }
   }
   impl->embedded_buffers = all_embedded;
+  impl->notes.insert(impl->notes.end(), file->notes.begin(), file->notes.end());
+  auto walk = walk_model(impl->model);
+  if (!walk) return std::unexpected(walk.error());
+  impl->walk = std::move(*walk);
   for (std::size_t i = 0; i < impl->model.images.size(); ++i) {
     const tinygltf::Image& image = impl->model.images[i];
     if (image.uri.empty() || is_data_uri(image.uri)) continue;
@@ -97,6 +101,21 @@ Result<Document> Document::from_scene(const Scene& scene, const ConvertOptions& 
   return Document(std::move(impl));
 }
 
+namespace {
+
+Result<Document> with_ground(Result<Document> document, const ConvertOptions& convert) {
+  if (!document || !convert.ground) return document;
+  Result<float> height = add_ground_plane(document->scene(), convert.ground_height);
+  if (!height) return fail(document->name() + ": " + height.error().message);
+  char note[160];
+  std::snprintf(note, sizeof note, "ground plane at y = %g%s: an occluder only (no receivers, not written out)",
+                static_cast<double>(*height), convert.ground_height ? "" : " (the lowest point)");
+  document->impl().notes.emplace_back(note);
+  return document;
+}
+
+}  // namespace
+
 Result<Document> Document::open(const std::string& name_or_path, const ConvertOptions& convert) {
   const std::string ext = lower_extension(name_or_path);
   const std::vector<std::string> builtins = builtin_scene_names();
@@ -106,14 +125,14 @@ Result<Document> Document::open(const std::string& name_or_path, const ConvertOp
     if (!scene) return std::unexpected(scene.error());
     Result<Document> document = from_scene(*scene, convert);
     if (document && !builtin) document->impl_->input_files.push_back(name_or_path);
-    return document;
+    return with_ground(std::move(document), convert);
   }
   Result<std::unique_ptr<Impl>> impl =
       gltf::read_guarded<std::unique_ptr<Impl>>(name_or_path, [&] { return read_gltf(name_or_path); });
   if (!impl) return std::unexpected(impl.error());
   (*impl)->name = std::filesystem::path(name_or_path).stem().string();
   (*impl)->walk.scene.name = (*impl)->name;
-  return Document(std::move(*impl));
+  return with_ground(Document(std::move(*impl)), convert);
 }
 
 }  // namespace exao::bake

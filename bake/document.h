@@ -5,6 +5,7 @@
 // converted to a glTF model first, and then baked the same way.
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,11 @@ struct ConvertOptions {
   /// Texels kept free around every atlas chart, so that the map's dilation margin of one chart
   /// never reaches another; >= 2 * margin + 2 keeps bilinear filtering clean too.
   int atlas_padding = 10;
+  /// exao bake --ground (applies to every input, glTF too): an occluding plane added to scene()
+  /// only, never to the model, so it gets no receivers and is never written out
+  /// (core/ground_plane.h). At `ground_height` along +Y, else at the model's lowest point.
+  bool ground = false;
+  std::optional<float> ground_height;
 };
 
 class Document {

@@ -63,10 +63,10 @@ AoImage render_preview(const Document& document, const BakeResult& result, const
       if (result.target == Target::Vertex && source.part < result.part_vertex_ao.size()) {
         const std::vector<float>& values = result.part_vertex_ao[source.part];
         ao = static_cast<float>(b.x * values[corners[0]] + b.y * values[corners[1]] + b.z * values[corners[2]]);
-      } else if (result.target == Target::Texture && source.part < result.part_uv.size() &&
+      } else if (result.target == Target::Texture && source.part < result.part_corner_uv.size() &&
                  result.part_map[source.part] >= 0) {
-        const std::vector<glm::vec2>& uv = result.part_uv[source.part];
-        const glm::dvec2 t = b.x * glm::dvec2(uv[corners[0]]) + b.y * glm::dvec2(uv[corners[1]]) + b.z * glm::dvec2(uv[corners[2]]);
+        const glm::vec2* uv = result.part_corner_uv[source.part].data() + 3 * static_cast<std::size_t>(source.triangle);
+        const glm::dvec2 t = b.x * glm::dvec2(uv[0]) + b.y * glm::dvec2(uv[1]) + b.z * glm::dvec2(uv[2]);
         ao = sample(result.maps[static_cast<std::size_t>(result.part_map[source.part])], glm::vec2(t));
       }
       const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x);

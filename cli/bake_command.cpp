@@ -5,9 +5,12 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <span>
+#include <string>
 
 #include <fcntl.h>
 #include <unistd.h>
@@ -19,6 +22,8 @@
 #include "cli/commands.h"
 #include "cli/common_options.h"
 #include "cli/progress_bar.h"
+#include "core/agreement.h"
+#include "core/grazing.h"
 #include "core/image_io.h"
 #include "core/load_scene.h"
 #include "engine/engine.h"
@@ -37,6 +42,9 @@ struct BakeCommandOptions {
   bool attribute = false;
   std::string normals = "geometric";
   int uv_set = 0;
+  std::string uv = "auto";
+  bool ground = false;                 // --ground given
+  std::string ground_value;            // "", "auto" or a height along +Y
   int texel_samples = 4;
   int margin = 4;
   int png_bits = 8;
@@ -82,6 +90,7 @@ struct BakePlan {
   engine::Options engine;
   std::optional<engine::Options> compare;
   bake::BakeOptions bake;
+  bake::ConvertOptions convert;  // how the document is opened
 };
 
 Result<BakePlan> plan_bake(const BakeCommandOptions& options, FlagOverrides& flags) {
@@ -110,22 +119,40 @@ Result<BakePlan> plan_bake(const BakeCommandOptions& options, FlagOverrides& fla
   b.normals = options.normals == "file" ? bake::NormalSource::File : bake::NormalSource::Geometric;
   b.texture_size = options.texture.value_or(1024);
   b.uv_set = options.uv_set;
+  if (options.uv != "auto" && options.uv != "file" && options.uv != "generate") {
+    return fail("--uv: must be auto, file or generate, got '" + options.uv + "'");
+  }
+  b.uv = options.uv == "file" ? bake::UvMode::File : options.uv == "generate" ? bake::UvMode::Generate : bake::UvMode::Auto;
   b.texel_samples = options.texel_samples;
   b.margin = options.margin;
   // Before the document is opened: the map size and margin lay out its atlas.
   if (auto ok = bake::check_options(b); !ok) return std::unexpected(ok.error());
+  // A mesh without UVs gets a box-projection atlas laid out for this map size.
+  if (options.texture) {
+    plan.convert.atlas_size = *options.texture;
+    plan.convert.atlas_padding = 2 * options.margin + 2;
+  }
+  plan.convert.ground = options.ground;
+  if (options.ground && !options.ground_value.empty() && options.ground_value != "auto") {
+    std::size_t used = 0;
+    float y = 0.0f;
+    try {
+      y = std::stof(options.ground_value, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used != options.ground_value.size() || !std::isfinite(y)) {
+      return fail("--ground: must be auto or a height along +Y, got '" + options.ground_value + "'");
+    }
+    plan.convert.ground_height = y;
+  }
   return plan;
 }
 
 // The document to bake: a glTF read whole, or anything else converted (a mesh without UVs gets a
-// box-projection atlas laid out for the map size). Its notes go to stderr.
-Result<bake::Document> open_document(const BakeCommandOptions& options) {
-  bake::ConvertOptions convert;
-  if (options.texture) {
-    convert.atlas_size = *options.texture;
-    convert.atlas_padding = 2 * options.margin + 2;
-  }
-  Result<bake::Document> document = bake::Document::open(options.scene.scene, convert);
+// box-projection atlas laid out for the map size; --ground adds its plane). Its notes go to stderr.
+Result<bake::Document> open_document(const BakeCommandOptions& options, const BakePlan& plan) {
+  Result<bake::Document> document = bake::Document::open(options.scene.scene, plan.convert);
   if (!document) return document;
   print_load_report(options.scene.scene, document->scene().report);
   print_notes(options.scene.scene, document->notes());
@@ -197,33 +224,51 @@ void print_summary(const std::string& name, const bake::Document& document, cons
   print_throughput(engine.method(), result.ao_seconds, result.receivers.size(), engine.samples());
 }
 
-// --compare: the second engine on the same receivers, and how its AO agrees with the bake's.
-Result<void> run_compare(const bake::BakeResult& result, const engine::Engine& main, const engine::Engine& other) {
-  Result<std::vector<float>> ao;
-  const auto start = std::chrono::steady_clock::now();
+// The figures of DESIGN.md section 8, test 3, for the bake's own receivers.
+void print_agreement(const char* mine, const char* reference, const Agreement& a) {
+  std::printf("  %s vs %s: rays agree %.4f%% (%zu of %zu differ", mine, reference, 100.0 * a.ray_share(), a.rays_differ,
+              a.rays);
+  if (a.classified) std::printf(", %zu of them grazing an edge or a plane", a.rays_differ_grazing);
+  std::printf("); identical AO on %.4f%% of %zu receivers", 100.0 * a.identical_share(), a.receivers);
+  if (a.classified) {
+    std::printf(" (%zu receivers differ only by grazing rays, %zu by a ray that does not graze)", a.receivers_grazing, a.ao_differ_not_grazing);
+  }
+  std::printf("; mean |dAO| %.5f, max %.4f\n", a.sum_abs_ao / double(std::max<std::size_t>(1, a.receivers)), a.max_abs_ao);
+}
+
+// --compare: the second engine on the same receivers, and how its answers agree with the bake's
+// ray by ray. Chunk by chunk, the bake's engine runs once more (untimed), so that no mask set
+// larger than a chunk is kept. With exact masks the rays that differ are sorted into grazing or
+// not (core/grazing.h); table masks differ on too many rays to classify them all.
+Result<void> run_compare(const Scene& scene, const bake::BakeResult& result, const engine::Engine& main,
+                         const engine::Engine& other) {
+  const bool classify = main.options().masks == lut::MaskMode::Exact ||
+                        (main.method() == engine::Method::Embree && other.method() == engine::Method::Embree);
+  std::optional<GrazingTest> grazing;
+  if (classify) grazing.emplace(scene, main.rays());
+  Agreement agreement;
+  double seconds = 0.0;
   {
     ProgressBar bar(std::string("compare ") + engine::method_name(other.method()));
-    engine::RunOptions run;
-    run.progress = bar.callback();
-    ao = other.ao(result.receivers, run);
-  }
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  if (!ao) return std::unexpected(ao.error());
-  std::size_t identical = 0;
-  double largest = 0.0, sum = 0.0;
-  for (std::size_t i = 0; i < ao->size(); ++i) {
-    const double d = std::abs(static_cast<double>((*ao)[i]) - result.ao[i]);
-    identical += d == 0.0 ? 1 : 0;
-    largest = std::max(largest, d);
-    sum += d;
+    const ProgressCallback progress = bar.callback();
+    const std::span<const Receiver> all(result.receivers);
+    for (std::size_t begin = 0; begin < all.size(); begin += engine::kChunk) {
+      const std::span<const Receiver> chunk = all.subspan(begin, std::min(engine::kChunk, all.size() - begin));
+      const auto start = std::chrono::steady_clock::now();
+      Result<MaskSet> reference = other.masks(chunk);
+      seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      if (!reference) return std::unexpected(reference.error());
+      Result<MaskSet> mine = main.masks(chunk);
+      if (!mine) return std::unexpected(mine.error());
+      agreement += compare_masks(*reference, *mine, chunk, main.rays(), grazing ? &*grazing : nullptr);
+      if (progress) progress(begin + chunk.size(), all.size());
+    }
   }
   print_throughput(other.method(), seconds, result.receivers.size(), other.samples());
-  const double n = static_cast<double>(std::max<std::size_t>(1, result.receivers.size()));
   const char* a = engine::method_name(main.method());
   const char* b = engine::method_name(other.method());
-  std::printf("  %s vs %s: %.2f%% of receivers identical, mean |dAO| %.5f, max %.4f; %s is %.2fx the speed of %s\n", a, b,
-              100.0 * static_cast<double>(identical) / n, sum / n, largest, a,
-              result.ao_seconds > 0.0 ? seconds / result.ao_seconds : 0.0, b);
+  print_agreement(a, b, agreement);
+  std::printf("  %s is %.2fx the speed of %s\n", a, result.ao_seconds > 0.0 ? seconds / result.ao_seconds : 0.0, b);
   return {};
 }
 
@@ -231,7 +276,7 @@ int run_bake(const BakeCommandOptions& options) {
   FlagOverrides flags;
   Result<BakePlan> plan = plan_bake(options, flags);
   if (!plan) return report(plan.error(), flags);
-  Result<bake::Document> document = open_document(options);
+  Result<bake::Document> document = open_document(options, *plan);
   if (!document) return report(document.error());
   Result<OutputPaths> outputs = plan_outputs(options, *document);
   if (!outputs) return report(outputs.error());
@@ -275,7 +320,7 @@ int run_bake(const BakeCommandOptions& options) {
   }
   print_summary(name, *document, plan->bake, *result, *engine);
   if (other) {
-    if (auto ok = run_compare(*result, *engine, *other); !ok) return report(ok.error(), kCompareFlags);
+    if (auto ok = run_compare(document->scene(), *result, *engine, *other); !ok) return report(ok.error(), kCompareFlags);
   }
   std::string files;
   for (const std::string& file : *written) files += (files.empty() ? "" : ", ") + file;
@@ -301,6 +346,14 @@ Command add_bake_command(CLI::App& app) {
                       "Receiver normals: geometric (area-weighted face normals) or file (the NORMAL attribute)")
       ->capture_default_str();
   command->add_option("--uv-set", options->uv_set, "Lay the maps out by TEXCOORD_K")->capture_default_str();
+  command->add_option("--uv", options->uv,
+                      "Texture bakes: UVs from the file's set (file), a chart atlas made for the bake (generate), or the "
+                      "file's set where it can hold AO and generated ones where not (auto)")
+      ->capture_default_str();
+  command->add_option("--ground", options->ground_value,
+                      "Add an occluding ground plane (never written out) at the model's lowest point (auto) or at height Y "
+                      "along +Y")
+      ->expected(0, 1);
   command->add_option("--texel-samples", options->texel_samples, "Receivers per texel: a square number (1 = texel centre)")
       ->capture_default_str();
   command->add_option("--margin", options->margin, "Dilation around each UV chart, texels")->capture_default_str();
@@ -308,8 +361,11 @@ Command add_bake_command(CLI::App& app) {
   command->add_option("--preview", options->preview,
                       "PNG picture of the baked AO from the camera options (default <output stem>-preview.png; '' for none)");
   command->add_option("--compare", options->compare,
-                      "Also time this method (embree, brute or bvh: raster serves only a camera's pixels) on the same receivers and report how the answers agree");
-  return [options, command]() { return command->parsed() ? run_bake(*options) : -1; };
+                      "Also time this method (embree, brute or bvh: raster serves only a camera's pixels) on the same receivers and report how the answers agree, ray by ray");
+  return [options, command]() {
+    options->ground = command->count("--ground") > 0;
+    return command->parsed() ? run_bake(*options) : -1;
+  };
 }
 
 }  // namespace exao::cli

@@ -7,13 +7,17 @@
 #include <cstdio>
 #include <fstream>
 #include <memory>
+#include <optional>
 #include <sstream>
 
+#include "bake/bake.h"
+#include "bake/document.h"
 #include "cli/bench_report.h"
 #include "cli/commands.h"
 #include "cli/common_options.h"
 #include "cli/progress_bar.h"
 #include "core/atomic_write.h"
+#include "core/isa.h"
 #include "core/pixel_receivers.h"
 #include "engine/engine.h"
 
@@ -30,9 +34,13 @@ struct BenchOptions {
   std::vector<std::string> methods{"embree", "bvh"};
   std::vector<std::string> masks{"lut", "exact"};
   std::vector<std::string> embree_rays{"packet16"};
+  std::vector<std::string> isas{"auto"};
+  std::string receivers = "pixels";  // pixels, vertices, or texels:SIZE[:SAMPLES]
   int repeats = 1;
   std::string json;
   std::string svg;
+  std::string markdown;
+  std::string label;
   bool stats = false;
 };
 
@@ -59,22 +67,44 @@ void compare(const MaskSet& reference, const MaskSet& masks, BenchRun& run) {
   run.max_abs_error = max_error;
 }
 
-// One timed configuration of a (N, r): a method with a mask mode, or Embree with a ray mode.
+// The receivers of a bake of the scene (vertex or texel), exactly as `exao bake` makes them.
+Result<std::vector<Receiver>> bake_receivers(bake::Document& document, const std::string& spec) {
+  bake::BakeOptions options;
+  if (spec == "vertices") {
+    options.target = bake::Target::Vertex;
+  } else if (spec.rfind("texels:", 0) == 0) {
+    options.target = bake::Target::Texture;
+    int size = 0, samples = 1;
+    if (std::sscanf(spec.c_str() + 7, "%d:%d", &size, &samples) < 1) {
+      return fail("--receivers: '" + spec + "' is not texels:SIZE[:SAMPLES]");
+    }
+    options.texture_size = size;
+    options.texel_samples = samples;
+  } else {
+    return fail("--receivers: '" + spec + "' is not pixels, vertices or texels:SIZE[:SAMPLES]");
+  }
+  return bake::bake_receivers(document, options);
+}
+
+// One timed configuration of a (N, r): a method with a mask mode and instruction set, or Embree
+// with a ray mode.
 struct Config {
   engine::Method method;
   lut::MaskMode mode;
   EmbreeRays rays;
+  std::optional<Isa> isa;
 };
 
-// The lists of --methods, --masks and --embree-rays, each checked against what the methods serve
-// (every one of them on a camera's pixels).
+// The lists of --methods, --masks, --embree-rays and --isa, each checked against what the methods
+// serve (on a camera's pixels, or on points for a bake's receivers).
 struct BenchLists {
   std::vector<engine::Method> methods;  // embree first: the reference of every comparison
   std::vector<lut::MaskMode> modes;
   std::vector<EmbreeRays> embree_modes;
+  std::vector<Isa> isas;                // resolved: every one runs on this CPU
 };
 
-Result<BenchLists> parse_lists(const BenchOptions& options, const engine::Options& base) {
+Result<BenchLists> parse_lists(const BenchOptions& options, const engine::Options& base, engine::Receivers receivers) {
   BenchLists out;
   out.methods.push_back(engine::Method::Embree);
   for (const std::string& name : options.methods) {
@@ -93,6 +123,14 @@ Result<BenchLists> parse_lists(const BenchOptions& options, const engine::Option
     out.embree_modes.push_back(*r);
   }
   if (out.embree_modes.empty()) return fail("embree.rays: give at least one mode");
+  for (const std::string& name : options.isas) {
+    Result<std::optional<Isa>> parsed = parse_isa(name);
+    if (!parsed) return std::unexpected(parsed.error());
+    Result<Isa> level = resolve_isa(*parsed);
+    if (!level) return std::unexpected(level.error());
+    out.isas.push_back(*level);
+  }
+  if (out.isas.empty()) return fail("isa: give at least one instruction set");
   for (const int n : options.samples) {
     if (auto ok = check_sample_count(n); !ok) return std::unexpected(ok.error());
   }
@@ -101,7 +139,7 @@ Result<BenchLists> parse_lists(const BenchOptions& options, const engine::Option
       engine::Options o = base;
       o.method = m;
       o.masks = mode;
-      if (auto ok = engine::check_serves(o, engine::Receivers::Pixels); !ok) return std::unexpected(ok.error());
+      if (auto ok = engine::check_serves(o, receivers); !ok) return std::unexpected(ok.error());
     }
   }
   return out;
@@ -111,10 +149,25 @@ int run_bench(const BenchOptions& options) {
   if (options.repeats < 1) return report(Error{"--repeats: must be at least 1, got " + std::to_string(options.repeats)});
   Result<engine::Options> base = make_options(options.scene, options.rays, options.method);
   if (!base) return report(base.error());
-  Result<BenchLists> lists = parse_lists(options, *base);
+  // Pixel receivers come from the scene as every command loads it; bake receivers from the
+  // scene as the bake reads it (a glTF's default scene, or the soup converted with an atlas).
+  const bool on_pixels = options.receivers == "pixels";
+  const engine::Receivers kind = on_pixels ? engine::Receivers::Pixels : engine::Receivers::Points;
+  Result<BenchLists> lists = parse_lists(options, *base, kind);
   if (!lists) return report(lists.error(), {{"method", "--methods"}});
 
-  Result<Scene> scene = open_scene(options.scene);
+  std::optional<bake::Document> document;
+  Result<Scene> scene = fail("no scene");
+  if (on_pixels) {
+    scene = open_scene(options.scene);
+  } else {
+    bake::ConvertOptions convert;
+    if (options.receivers.rfind("texels:", 0) == 0) convert.atlas_size = std::max(16, std::atoi(options.receivers.c_str() + 7));
+    Result<bake::Document> opened = bake::Document::open(options.scene.scene, convert);
+    if (!opened) return report(opened.error());
+    document = std::move(*opened);
+    scene = document->scene();
+  }
   if (!scene) return report(scene.error());
   Result<View> view = choose_view(options.camera, *scene);
   if (!view) return report(view.error());
@@ -127,26 +180,41 @@ int run_bench(const BenchOptions& options) {
   Result<std::shared_ptr<const engine::Geometry>> geometry =
       engine::Geometry::build(*scene, lists->methods, geometry_options);
   if (!geometry) return report(geometry.error());
-  const auto engine_for = [&](engine::Method method, lut::MaskMode mode, int n, const std::string& radius) {
+  const auto engine_for = [&](engine::Method method, lut::MaskMode mode, std::optional<Isa> isa, int n,
+                              const std::string& radius) {
     engine::Options o = *base;
     o.method = method;
     o.masks = mode;
+    o.isa = isa;
     o.samples = n;
     Result<engine::Length> r = parse_radius(radius);
     if (!r) return Result<engine::Engine>(std::unexpected(r.error()));
     o.radius = *r;
-    return engine::Engine::build(*geometry, o, engine::Receivers::Pixels);
+    return engine::Engine::build(*geometry, o, kind);
   };
-  // Every method runs on Embree's pixel receivers, so that all cast the same rays.
-  Result<engine::Engine> reference = engine_for(engine::Method::Embree, lut::MaskMode::Exact, options.samples.front(),
+  // Every method runs on the same receivers (Embree's pixels, or the bake's), so that all cast
+  // the same rays.
+  Result<engine::Engine> reference = engine_for(engine::Method::Embree, lut::MaskMode::Exact, std::nullopt,
+                                                options.samples.front(),
                                                 options.radii.empty() ? std::string() : options.radii.front());
   if (!reference) return report(reference.error());
-  Result<PixelReceivers> pixels = reference->pixel_receivers(view->camera, view->width, view->height);
-  if (!pixels) return report(pixels.error());
-  if (pixels->receivers.empty()) return report(Error{options.scene.scene + ": the camera sees no triangle; try --eye/--target"});
+  Result<PixelReceivers> pixels = PixelReceivers{};
+  if (on_pixels) {
+    pixels = reference->pixel_receivers(view->camera, view->width, view->height);
+    if (!pixels) return report(pixels.error());
+    if (pixels->receivers.empty()) return report(Error{options.scene.scene + ": the camera sees no triangle; try --eye/--target"});
+  } else {
+    Result<std::vector<Receiver>> receivers = bake_receivers(*document, options.receivers);
+    if (!receivers) return report(receivers.error());
+    if (receivers->empty()) return report(Error{options.scene.scene + ": the bake has no receivers"});
+    pixels->receivers = std::move(*receivers);
+    pixels->width = static_cast<int>(pixels->receivers.size());
+    pixels->height = 1;
+  }
 
   BenchReport report_data;
   report_data.scene = options.scene.scene;
+  report_data.label = options.label.empty() ? options.scene.scene + " " + options.receivers : options.label;
   report_data.triangles = scene->triangle_count();
   report_data.receivers = pixels->receivers.size();
   report_data.threads = reference->threads();
@@ -158,14 +226,18 @@ int run_bench(const BenchOptions& options) {
     for (const std::string& radius_text : options.radii) {
       // The configurations of this (N, r): Embree first, the reference for every comparison.
       std::vector<Config> configs;
-      for (const EmbreeRays r : lists->embree_modes) configs.push_back({engine::Method::Embree, lut::MaskMode::Exact, r});
+      for (const EmbreeRays r : lists->embree_modes) {
+        configs.push_back({engine::Method::Embree, lut::MaskMode::Exact, r, std::nullopt});
+      }
       for (const engine::Method m : lists->methods) {
         if (m == engine::Method::Embree) continue;
-        for (const lut::MaskMode mode : lists->modes) configs.push_back({m, mode, EmbreeRays::Single});
+        for (const lut::MaskMode mode : lists->modes) {
+          for (const Isa isa : lists->isas) configs.push_back({m, mode, EmbreeRays::Single, isa});
+        }
       }
       std::vector<engine::Engine> engines;
       for (const Config& config : configs) {
-        Result<engine::Engine> built = engine_for(config.method, config.mode, n, radius_text);
+        Result<engine::Engine> built = engine_for(config.method, config.mode, config.isa, n, radius_text);
         if (!built) return report(built.error());
         engines.push_back(std::move(*built));
       }
@@ -182,7 +254,8 @@ int run_bench(const BenchOptions& options) {
           if (options.stats) run.stats = &stats;
           if (config.method == engine::Method::Embree) run.embree_rays = config.rays;
           const auto start = std::chrono::steady_clock::now();
-          Result<MaskSet> masks = engines[c].pixel_masks(*pixels, view->camera, run);
+          Result<MaskSet> masks =
+              on_pixels ? engines[c].pixel_masks(*pixels, view->camera, run) : engines[c].masks(pixels->receivers, run);
           const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
           bar.finish();
           if (!masks) return report(masks.error());
@@ -194,6 +267,8 @@ int run_bench(const BenchOptions& options) {
             r.radius_text = radius_text;
             r.method = engine::method_name(config.method);
             r.masks = config.method == engine::Method::Embree ? embree_rays_name(config.rays) : lut::mask_mode_name(config.mode);
+            const lut::MaskEngine* masks_engine = engines[c].mask_engine();
+            r.isa = masks_engine ? isa_name(masks_engine->isa()) : "";
             r.stats = stats;
             results[c] = std::move(*masks);
           }
@@ -214,6 +289,9 @@ int run_bench(const BenchOptions& options) {
   }
   if (!options.svg.empty()) {
     if (auto ok = write_bench_svg(report_data, options.svg); !ok) return report(ok.error());
+  }
+  if (!options.markdown.empty()) {
+    if (auto ok = write_bench_markdown(report_data, options.markdown); !ok) return report(ok.error());
   }
   return 0;
 }
@@ -243,9 +321,20 @@ Command add_bench_command(CLI::App& app) {
   command->add_option("--table-resolution", options->method.table_resolution, "Look-up table cells per side (0: default)");
   command->add_option("--branching", options->method.branching, "BVH children per node: 2 or 4")->capture_default_str();
   command->add_option("--leaf-size", options->method.leaf_size, "Most triangles per BVH leaf: 1 to 8")->capture_default_str();
+  command->add_option("--receivers", options->receivers,
+                      "Receivers: pixels (of the camera), vertices (of a vertex bake) or texels:SIZE[:SAMPLES] "
+                      "(of a texture bake, SAMPLES per texel, default 1)")
+      ->capture_default_str();
   command->add_option("--repeats", options->repeats, "Interleaved repeats; the fastest time counts")->capture_default_str();
+  command->add_option("--isa", options->isas,
+                      "Instruction sets of the mask kernels, a list of auto, scalar, sse2, sse4, avx2, avx512 "
+                      "(auto: EXAO_ISA, else the best this CPU runs)")
+      ->delimiter(',')
+      ->capture_default_str();
   command->add_option("--json", options->json, "Write the results as JSON");
   command->add_option("--svg", options->svg, "Write a bar chart of Mrays/s as SVG");
+  command->add_option("--markdown", options->markdown, "Write the results as a Markdown table");
+  command->add_option("--label", options->label, "The workload's name in the tables (default: scene and receivers)");
   command->add_flag("--stats", options->stats, "Add BVH work counters per receiver");
   return [options, command]() { return command->parsed() ? run_bench(*options) : -1; };
 }

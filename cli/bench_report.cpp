@@ -8,7 +8,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "bvh/traverse.h"
 #include "core/atomic_write.h"
+#include "core/isa.h"
 
 namespace exao::cli {
 namespace {
@@ -38,28 +40,26 @@ std::string escape_xml(const std::string& s) {
 void print_bench_header(const BenchReport& report) {
   std::printf("scene %s: %zu triangles, %dx%d camera, %zu receivers, %d threads\n", report.scene.c_str(),
               report.triangles, report.width, report.height, report.receivers, report.threads);
-  std::printf("%5s %10s %-7s %-6s %9s %9s %8s %10s %9s %9s %9s\n", "N", "radius", "method", "masks", "seconds",
+  std::printf("%5s %10s %-7s %-8s %-6s %9s %9s %8s %10s %9s %9s %9s\n", "N", "radius", "method", "masks", "isa", "seconds",
               "Mrays/s", "x embree", "rays agree", "identical", "mean|dAO|", "max|dAO|");
 }
 
 void print_bench_row(const BenchRun& run, bool stats) {
-  std::printf("%5d %10.4g %-7s %-6s %9.3f %9.1f %8.2f %9.4f%% %8.2f%% %9.5f %9.5f\n", run.samples,
-              static_cast<double>(run.radius), run.method.c_str(), run.masks.c_str(), run.seconds, run.mrays_per_s,
+  std::printf("%5d %10.4g %-7s %-8s %-6s %9.3f %9.1f %8.2f %9.4f%% %8.2f%% %9.5f %9.5f\n", run.samples,
+              static_cast<double>(run.radius), run.method.c_str(), run.masks.c_str(), run.isa.c_str(), run.seconds, run.mrays_per_s,
               run.speedup_vs_embree, 100.0 * run.ray_agreement, 100.0 * run.identical_receivers, run.mean_abs_error,
               run.max_abs_error);
   if (stats && run.stats.raster.receivers) std::printf("%s", raster::format_stats(run.stats.raster).c_str());
-  const auto& t = run.stats.traversal;
-  if (stats && t.receivers) {
-    const double n = static_cast<double>(t.receivers);
-    std::printf("      per receiver: %.1f nodes visited, %.1f triangles tested, %.1f triangles blocked a new ray\n",
-                static_cast<double>(t.nodes_visited) / n, static_cast<double>(t.triangles_tested) / n,
-                static_cast<double>(t.triangles_blocking) / n);
+  if (stats && run.stats.traversal.receivers) {
+    const Result<std::optional<Isa>> isa = parse_isa(run.isa);
+    std::printf("      %s", bvh::format_stats(run.stats.traversal, isa && *isa ? **isa : default_isa()).c_str());
   }
   std::fflush(stdout);
 }
 
 Result<void> write_bench_json(const BenchReport& report, const std::string& path) {
   nlohmann::json j;
+  j["label"] = report.label;
   j["scene"] = report.scene;
   j["triangles"] = report.triangles;
   j["receivers"] = report.receivers;
@@ -73,6 +73,7 @@ Result<void> write_bench_json(const BenchReport& report, const std::string& path
                      {"radius_option", run.radius_text},
                      {"method", run.method},
                      {"masks", run.masks},
+                     {"isa", run.isa},
                      {"seconds", run.seconds},
                      {"mrays_per_s", run.mrays_per_s},
                      {"speedup_vs_embree", run.speedup_vs_embree},
@@ -93,6 +94,31 @@ Result<void> write_bench_json(const BenchReport& report, const std::string& path
 }
 
 // Groups of bars, one group per (N, radius), one bar per method and mask mode, height Mrays/s.
+Result<void> write_bench_markdown(const BenchReport& report, const std::string& path) {
+  std::ostringstream md;
+  md << "| workload | N | r | method | Mrays/s | x embree | rays agreeing | receivers identical |\n"
+     << "|---|---|---|---|---|---|---|---|\n";
+  char line[512];
+  for (const BenchRun& run : report.runs) {
+    if (run.method == "embree" && run.speedup_vs_embree == 1.0) {
+      std::snprintf(line, sizeof line, "| %s | %d | %s | embree %s | %.1f | 1.00 | | |\n", report.label.c_str(),
+                    run.samples, run.radius_text.c_str(), run.masks.c_str(), run.mrays_per_s);
+    } else {
+      std::snprintf(line, sizeof line, "| %s | %d | %s | %s %s %s | %.1f | **%.2f** | %.4f%% | %.2f%% |\n",
+                    report.label.c_str(), run.samples, run.radius_text.c_str(), run.method.c_str(), run.masks.c_str(),
+                    run.isa.c_str(), run.mrays_per_s, run.speedup_vs_embree, 100.0 * run.ray_agreement,
+                    100.0 * run.identical_receivers);
+    }
+    md << line;
+  }
+  return write_atomically(path, [&](const std::string& temp) -> Result<void> {
+    std::ofstream out(temp);
+    out << md.str();
+    if (!out.flush()) return fail(path + ": write failed");
+    return {};
+  });
+}
+
 Result<void> write_bench_svg(const BenchReport& report, const std::string& path) {
   std::vector<std::string> groups, series;
   for (const BenchRun& run : report.runs) {

@@ -16,6 +16,7 @@ struct BenchRun {
   std::string radius_text;
   std::string method;
   std::string masks;
+  std::string isa;  // the mask kernels' instruction set ("" for embree)
   double seconds = 0.0;
   double mrays_per_s = 0.0;
   double speedup_vs_embree = 0.0;
@@ -27,6 +28,7 @@ struct BenchRun {
 };
 
 struct BenchReport {
+  std::string label;      // what the receivers are, for tables: "Conference pixels 256x192"
   std::string scene;
   std::size_t triangles = 0;
   std::size_t receivers = 0;
@@ -39,6 +41,9 @@ struct BenchReport {
 void print_bench_header(const BenchReport& report);
 void print_bench_row(const BenchRun& run, bool stats);
 [[nodiscard]] Result<void> write_bench_json(const BenchReport& report, const std::string& path);
+/// A Markdown table, one row per method that is not the reference: workload, N, r, method,
+/// Mrays/s, the ratio to Embree in the same run, and the agreement with Embree.
+[[nodiscard]] Result<void> write_bench_markdown(const BenchReport& report, const std::string& path);
 [[nodiscard]] Result<void> write_bench_svg(const BenchReport& report, const std::string& path);
 
 }  // namespace exao::cli

@@ -14,5 +14,6 @@ Command add_info_command(CLI::App& app);
 Command add_bench_command(CLI::App& app);
 Command add_query_command(CLI::App& app);
 Command add_bake_command(CLI::App& app);
+Command add_compare_command(CLI::App& app);
 
 }  // namespace exao::cli

@@ -9,7 +9,7 @@
 namespace exao::cli {
 
 void add_scene_options(CLI::App& app, SceneOptions& options) {
-  app.add_option("scene", options.scene, "A built-in scene (room, plane-pair, sphere-on-plane) or a .gltf/.glb/.obj/.ply/.off/.stl file")
+  app.add_option("scene", options.scene, "A built-in scene (room, plane-pair, sphere-on-plane, corners) or a .gltf/.glb/.obj/.ply/.off/.stl file")
       ->capture_default_str();
   app.add_option("--sided", options.sided, "Triangle sidedness: auto (glTF doubleSided; other formats two-sided), one, two")
       ->check(CLI::IsMember({"auto", "one", "two"}))
@@ -54,12 +54,7 @@ void add_method_options(CLI::App& app, MethodOptions& options) {
 
 void print_stats(const engine::Stats& stats) {
   if (stats.raster.receivers) std::printf("%s", raster::format_stats(stats.raster).c_str());
-  const auto& t = stats.traversal;
-  if (t.receivers == 0) return;
-  const double n = static_cast<double>(t.receivers);
-  std::printf("per receiver: %.1f nodes visited, %.1f triangles tested, %.1f triangles blocked a new ray\n",
-              static_cast<double>(t.nodes_visited) / n, static_cast<double>(t.triangles_tested) / n,
-              static_cast<double>(t.triangles_blocking) / n);
+  std::printf("%s", bvh::format_stats(stats.traversal, default_isa()).c_str());
 }
 
 void print_load_report(const std::string& name, const LoadReport& r) {

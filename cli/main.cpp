@@ -33,6 +33,7 @@ int main(int argc, char** argv) {
       exao::cli::add_bench_command(app),
       exao::cli::add_query_command(app),
       exao::cli::add_bake_command(app),
+      exao::cli::add_compare_command(app),
   };
   CLI11_PARSE(app, argc, argv);
   for (const auto& command : commands) {

@@ -6,7 +6,7 @@
 namespace exao::cli {
 namespace {
 
-constexpr std::array<std::pair<std::string_view, std::string_view>, 20> kFlags{{
+constexpr std::array<std::pair<std::string_view, std::string_view>, 21> kFlags{{
     // engine::Options
     {"radius", "--radius"},
     {"samples", "--samples"},
@@ -22,6 +22,7 @@ constexpr std::array<std::pair<std::string_view, std::string_view>, 20> kFlags{{
     {"raster.alpha", "--alpha"},
     {"embree.rays", "--embree-rays"},
     {"embree.across_receivers", "--embree-per-receiver"},
+    {"isa", "--isa"},
     // bake::BakeOptions
     {"texture_size", "--texture"},
     {"texel_samples", "--texel-samples"},

@@ -9,14 +9,14 @@ namespace {
 
 // A quad a, b, c, d, counter-clockwise seen from its front, split into an n x m grid of cells
 // so that per-vertex bakes have vertices to hold the AO.
-void add_grid(Scene& scene, glm::vec3 a, glm::vec3 b, glm::vec3 d, int n, int m) {
+void add_grid(Scene& scene, glm::vec3 a, glm::vec3 b, glm::vec3 d, int n, int m, bool two_sided = false) {
   const glm::vec3 u = (b - a) / static_cast<float>(n);
   const glm::vec3 v = (d - a) / static_cast<float>(m);
   for (int j = 0; j < m; ++j) {
     for (int i = 0; i < n; ++i) {
       const glm::vec3 p = a + static_cast<float>(i) * u + static_cast<float>(j) * v;
-      scene.add_triangle(p, p + u, p + u + v, false, 0);
-      scene.add_triangle(p, p + u + v, p + v, false, 0);
+      scene.add_triangle(p, p + u, p + u + v, two_sided, 0);
+      scene.add_triangle(p, p + u + v, p + v, two_sided, 0);
     }
   }
 }
@@ -99,13 +99,47 @@ Scene make_sphere_on_plane() {
   return scene;
 }
 
-std::vector<std::string> builtin_scene_names() { return {"room", "plane-pair", "sphere-on-plane"}; }
+Scene make_hidden_box(bool box, bool wall) {
+  Scene scene;
+  scene.name = "hidden-box";
+  add_grid(scene, {-6.0f, 0.0f, 6.0f}, {6.0f, 0.0f, 6.0f}, {-6.0f, 0.0f, -6.0f}, 48, 48);
+  if (wall) add_box(scene, {0.1f, 0.0f, 2.0f}, {4.0f, 3.0f, 2.1f}, true, 0.25f);
+  if (box) add_box(scene, {0.1f, 0.0f, -0.5f}, {1.1f, 1.0f, 0.5f}, true, 0.25f);
+  scene.cameras.push_back(look_at({0.3f, 2.0f, 6.0f}, {-0.2f, 0.0f, 0.0f}, 50.0f));
+  scene.cameras.back().name = "view";
+  return scene;
+}
+
+Scene make_corners() {
+  Scene scene;
+  scene.name = "corners";
+  // Every coordinate below is a multiple of 1/4, so each grid vertex is exact in float and lies
+  // exactly in the planes it should: the cases of the surface rule happen, not nearly happen.
+  add_grid(scene, {0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 4.0f}, {4.0f, 0.0f, 0.0f}, 16, 16);  // floor, facing +Y
+  add_grid(scene, {0.0f, 0.0f, 0.0f}, {0.0f, 1.5f, 0.0f}, {0.0f, 0.0f, 4.0f}, 6, 16);   // wall x = 0, facing +X
+  add_grid(scene, {0.0f, 0.0f, 0.0f}, {4.0f, 0.0f, 0.0f}, {0.0f, 1.5f, 0.0f}, 16, 6);   // wall z = 0, facing +Z
+  // A box on the floor (its bottom face in the floor's plane) and one against the wall x = 0.
+  add_box(scene, {1.0f, 0.0f, 1.0f}, {1.75f, 0.5f, 1.5f}, true, 0.25f);
+  add_box(scene, {0.0f, 0.0f, 2.5f}, {0.5f, 0.75f, 3.25f}, true, 0.25f);
+  // Two two-sided quads through each other: one upright (x = 2.75), one tilted at 45 degrees
+  // (z = y + 0.75) standing on the floor; their vertices on the crossing line lie exactly in the
+  // other quad's plane, the tilted one where Embree's own test is decided by rounding.
+  add_grid(scene, {2.75f, 0.0f, 0.5f}, {2.75f, 0.0f, 2.0f}, {2.75f, 1.0f, 0.5f}, 6, 4, true);
+  add_grid(scene, {2.0f, 0.0f, 0.75f}, {3.5f, 0.0f, 0.75f}, {2.0f, 1.0f, 1.75f}, 6, 4, true);
+  scene.cameras.push_back(look_at({3.9f, 2.3f, 3.9f}, {1.2f, 0.3f, 1.2f}, 60.0f));
+  scene.cameras.back().name = "corner";
+  return scene;
+}
+
+std::vector<std::string> builtin_scene_names() { return {"room", "plane-pair", "sphere-on-plane", "hidden-box", "corners"}; }
 
 Result<Scene> builtin_scene(const std::string& name) {
   if (name == "room") return make_room();
   if (name == "plane-pair") return make_plane_pair();
   if (name == "sphere-on-plane") return make_sphere_on_plane();
-  return fail(name + ": no such built-in scene (room, plane-pair, sphere-on-plane)");
+  if (name == "hidden-box") return make_hidden_box();
+  if (name == "corners") return make_corners();
+  return fail(name + ": no such built-in scene (room, plane-pair, sphere-on-plane, hidden-box, corners)");
 }
 
 Result<Scene> open_scene(const std::string& name_or_path) {

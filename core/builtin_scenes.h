@@ -19,4 +19,17 @@ namespace exao {
 /// A unit sphere resting on an 8 x 8 floor.
 [[nodiscard]] Scene make_sphere_on_plane();
 
+/// Seed 000's Fig. 1-2 case: a 1 x 1 x 1 box on a 12 x 12 floor, its -X face at x = 0.1, hidden
+/// from the camera ("view", at x = 0.3) by a thin wall 2 to 2.1 in front of it; the floor just
+/// left of the box (x < 0.1) is seen, and the box is within reach of its AO (radius 1) while the
+/// wall is not (over 1.4 away). The box's triangles come last, so removing it (box = false)
+/// leaves every other triangle's index; wall = false removes the wall.
+[[nodiscard]] Scene make_hidden_box(bool box = true, bool wall = true);
+/// The cases of the surface rule (docs/surface-rule.md) on a 4 x 1.5 x 4 corner: a floor and two
+/// walls meeting at the origin, a box on the floor and one against a wall (faces in the planes
+/// of the floor and the wall), and two two-sided quads through each other, one tilted. Grid
+/// vertices every 0.25, all exact in float, on every corner, edge and crossing line, so vertex
+/// receivers (and offset 0) start exactly in the planes of their neighbours. Has a camera.
+[[nodiscard]] Scene make_corners();
+
 }  // namespace exao

@@ -13,6 +13,8 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "core/surface_rule.h"
+
 namespace exao {
 
 struct EmbreeScene::Impl {
@@ -22,6 +24,12 @@ struct EmbreeScene::Impl {
   // the front-face normals the occlusion filter tests against.
   std::vector<std::uint32_t> triangle_of[2];
   std::vector<glm::vec3> front_normals;
+  // What each geometry's occlusion filter reads (its user data).
+  struct FilterData {
+    const float* vertices = nullptr;          // the geometry's vertex buffer: 9 floats per primitive
+    const glm::vec3* front_normals = nullptr;  // one-sided geometry only
+  };
+  FilterData filter_data[2];
   std::mutex error_mutex;
   std::string first_error;
 
@@ -44,16 +52,31 @@ void on_embree_error(void* user, RTCError code, const char* message) {
   }
 }
 
-// A one-sided triangle blocks a ray only when the ray arrives at its front face, i.e. travels
-// against the counter-clockwise normal (DESIGN.md section 1).
-void keep_front_face_hits(const RTCFilterFunctionNArguments* args) {
-  const auto* normals = static_cast<const glm::vec3*>(args->geometryUserPtr);
+// The occlusion filter of both geometries: DESIGN.md section 1's sidedness and the surface rule.
+// - A one-sided triangle blocks a ray only when the ray arrives at its front face, i.e. travels
+//   against the counter-clockwise normal.
+// - A triangle whose plane the ray origin lies on blocks nothing (core/surface_rule.h).
+//   Embree's own test (t > tnear = 0) gives that only where rounding leaves t = 0 exactly (an
+//   axis-aligned plane); on a tilted plane it hits about half such rays, so the shared test
+//   decides. Only hits reach the filter: a few tens of flops per blocked ray.
+void occlusion_filter(const RTCFilterFunctionNArguments* args) {
+  const auto* data = static_cast<const EmbreeScene::Impl::FilterData*>(args->geometryUserPtr);
   for (unsigned i = 0; i < args->N; ++i) {
     if (args->valid[i] != -1) continue;
-    const glm::vec3& n = normals[RTCHitN_primID(args->hit, args->N, i)];
-    const float along = RTCRayN_dir_x(args->ray, args->N, i) * n.x + RTCRayN_dir_y(args->ray, args->N, i) * n.y +
-                        RTCRayN_dir_z(args->ray, args->N, i) * n.z;
-    if (!(along < 0.0f)) args->valid[i] = 0;
+    const unsigned prim = RTCHitN_primID(args->hit, args->N, i);
+    if (data->front_normals) {
+      const glm::vec3& n = data->front_normals[prim];
+      const float along = RTCRayN_dir_x(args->ray, args->N, i) * n.x + RTCRayN_dir_y(args->ray, args->N, i) * n.y +
+                          RTCRayN_dir_z(args->ray, args->N, i) * n.z;
+      if (!(along < 0.0f)) {
+        args->valid[i] = 0;
+        continue;
+      }
+    }
+    const float* v = data->vertices + 9 * static_cast<std::size_t>(prim);
+    const glm::vec3 origin{RTCRayN_org_x(args->ray, args->N, i), RTCRayN_org_y(args->ray, args->N, i),
+                           RTCRayN_org_z(args->ray, args->N, i)};
+    if (origin_on_plane({v[0], v[1], v[2]}, {v[3], v[4], v[5]}, {v[6], v[7], v[8]}, origin)) args->valid[i] = 0;
   }
 }
 
@@ -75,10 +98,10 @@ void attach_triangles(EmbreeScene::Impl& impl, const Scene& scene, unsigned id) 
       indices[3 * k + j] = static_cast<unsigned>(3 * k + j);
     }
   }
-  if (id == kOneSided) {
-    rtcSetGeometryUserData(geometry, impl.front_normals.data());
-    rtcSetGeometryOccludedFilterFunction(geometry, keep_front_face_hits);
-  }
+  impl.filter_data[id].vertices = vertices;
+  if (id == kOneSided) impl.filter_data[id].front_normals = impl.front_normals.data();
+  rtcSetGeometryUserData(geometry, &impl.filter_data[id]);
+  rtcSetGeometryOccludedFilterFunction(geometry, occlusion_filter);
   rtcSetGeometryBuildQuality(geometry, RTC_BUILD_QUALITY_HIGH);
   rtcCommitGeometry(geometry);
   rtcAttachGeometryByID(impl.scene, geometry, id);

@@ -32,13 +32,20 @@ struct EmbreeOptions {
   /// Packets hold the same sample of neighbouring receivers (near-parallel rays from nearby
   /// origins) rather than neighbouring samples of one receiver (rays fanning out from a point).
   bool across_receivers = true;
-  /// RTC_INTERSECT_CONTEXT_FLAG_COHERENT for packets.
-  bool coherent = true;
+  /// RTC_INTERSECT_CONTEXT_FLAG_COHERENT for packets. Off: Embree 3.13.5 then traverses a
+  /// packet by one frustum (kernels/bvh/node_intersector_frustum.h, Frustum<false>), whose node
+  /// tests round org * rdir for the whole packet and can cull a node that one lane's ray clearly
+  /// hits (a Conference vertex receiver's ray that hits a wall 0.05 units away, in the middle of
+  /// the triangle, came out open in a packet and blocked alone). The reference must give every
+  /// ray the answer it gets alone; and on the bakes' receivers incoherent packets were faster.
+  bool coherent = false;
 };
 
-/// A scene committed to Embree. One-sided triangles reject back-face hits in an occlusion filter;
-/// two-sided ones live in a geometry without a filter. Immutable after build; any number of
-/// threads may query it at once. Uses the TBB thread limit in force (tbb::global_control).
+/// A scene committed to Embree. One-sided and two-sided triangles live in two geometries; the
+/// occlusion filter of both rejects hits on a triangle whose plane the ray origin lies on
+/// (the surface rule, core/surface_rule.h), and the one-sided geometry's also rejects back-face
+/// hits. Immutable after build; any number of threads may query it at once. Uses the TBB thread
+/// limit in force (tbb::global_control).
 class EmbreeScene {
  public:
   struct Hit {

@@ -4,7 +4,9 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <utility>
 
+#include "core/gltf_compression.h"
 #include "core/gltf_model.h"
 
 namespace exao::gltf {
@@ -16,18 +18,21 @@ bool is_glb(const std::string& path) {
   return in.gcount() == 4 && std::memcmp(magic.data(), "glTF", 4) == 0;
 }
 
-Result<tinygltf::Model> read_file(const std::string& path, tinygltf::LoadImageDataFunction images, void* user) {
+Result<File> read_file(const std::string& path, tinygltf::LoadImageDataFunction images, void* user) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) return fail("no such file");
   tinygltf::TinyGLTF context;
   context.SetImageLoader(images, user);
-  tinygltf::Model model;
+  File file;
+  file.binary = is_glb(path);
   std::string err;
   std::string warn;
-  const bool ok = is_glb(path) ? context.LoadBinaryFromFile(&model, &err, &warn, path)
-                               : context.LoadASCIIFromFile(&model, &err, &warn, path);
-  if (!ok) return fail(one_line(err));
-  return model;
+  if (!load_file(context, file.model, err, warn, path, file.binary)) return fail(one_line(err));
+  for (const tinygltf::Buffer& buffer : file.model.buffers) file.buffer_uris.push_back(buffer.uri);
+  Result<std::vector<std::string>> decoded = decode_compression(file.model);
+  if (!decoded) return std::unexpected(decoded.error());
+  file.notes = std::move(*decoded);
+  return file;
 }
 
 }  // namespace exao::gltf

@@ -6,18 +6,29 @@
 
 #include <exception>
 #include <string>
+#include <vector>
 
 #include "core/error.h"
 #include "core/gltf_model.h"
 
 namespace exao::gltf {
 
+/// A glTF file as read: its model with any Draco or meshopt compression already decoded
+/// (core/gltf_compression.h), and what the file was before decoding merged its buffers.
+struct File {
+  tinygltf::Model model;
+  bool binary = false;                    // a GLB container
+  std::vector<std::string> buffer_uris;   // per buffer of the file as written (empty: GLB's BIN chunk)
+  std::vector<std::string> notes;         // one line per compression extension decoded
+};
+
 /// Reads `path`, told a .glb by its magic bytes rather than its name (a mislabelled file still
-/// loads); `images` decides what happens to each image's bytes (tinygltf's image callback, with
-/// `user`). Fails with one line, without the file name (the caller adds it): no such file, or
-/// tinygltf's own message. May throw what tinygltf throws (bad_alloc, json errors).
-[[nodiscard]] Result<tinygltf::Model> read_file(const std::string& path, tinygltf::LoadImageDataFunction images,
-                                                void* user);
+/// loads), and decodes its compressed geometry, so that every reader (the scene loader, the
+/// bake) sees an ordinary model; `images` decides what happens to each image's bytes
+/// (tinygltf's image callback, with `user`). Fails with one line, without the file name (the
+/// caller adds it): no such file, tinygltf's own message, or a stream that does not decode. May
+/// throw what tinygltf throws (bad_alloc, json errors).
+[[nodiscard]] Result<File> read_file(const std::string& path, tinygltf::LoadImageDataFunction images, void* user);
 
 /// Whether the file starts with the GLB magic "glTF".
 [[nodiscard]] bool is_glb(const std::string& path);

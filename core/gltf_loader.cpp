@@ -33,9 +33,11 @@ bool ignore_image(tinygltf::Image*, const int, std::string*, std::string*, int, 
 }
 
 Result<Scene> load(const std::string& path) {
-  Result<tinygltf::Model> model = read_file(path, &ignore_image, nullptr);
-  if (!model) return std::unexpected(model.error());
-  return build_scene(*model);
+  Result<File> file = read_file(path, &ignore_image, nullptr);  // Draco and meshopt decoded
+  if (!file) return std::unexpected(file.error());
+  Result<Scene> scene = build_scene(file->model);
+  if (scene) scene->report.notes.insert(scene->report.notes.end(), file->notes.begin(), file->notes.end());
+  return scene;
 }
 
 }  // namespace

@@ -1,5 +1,7 @@
 #include "core/gltf_walk.h"
 
+#include <algorithm>
+#include <cmath>
 #include <limits>
 #include <map>
 #include <string>
@@ -221,6 +223,14 @@ Result<ModelWalk> walk_model(const tinygltf::Model& model) {
                            " skinned mesh node(s) in their bind pose (skinning is not applied)");
   }
   if (walk.scene.triangle_count() == 0) return fail("no triangles");
+  for (const tinygltf::Material& material : model.materials) {
+    const std::vector<double>& colour = material.pbrMetallicRoughness.baseColorFactor;
+    const double alpha = colour.size() == 4 && std::isfinite(colour[3]) ? std::clamp(colour[3], 0.0, 1.0) : 1.0;
+    const double opacity = material.alphaMode == "BLEND" ? alpha
+                           : material.alphaMode == "MASK" ? (alpha >= material.alphaCutoff ? 1.0 : 0.0)
+                                                          : 1.0;
+    walk.scene.material_opacity.push_back(static_cast<float>(opacity));
+  }
   return walk;
 }
 

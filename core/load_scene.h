@@ -23,7 +23,7 @@ namespace exao {
 /// Names of the built-in scenes; the first is the default.
 [[nodiscard]] std::vector<std::string> builtin_scene_names();
 
-/// A built-in scene by name ("room", "plane-pair", "sphere-on-plane"), or an error.
+/// A built-in scene by name ("room", "plane-pair", "sphere-on-plane", "corners"), or an error.
 [[nodiscard]] Result<Scene> builtin_scene(const std::string& name);
 
 /// `name` is a built-in scene's name, or else a path: the one entry point for every command.

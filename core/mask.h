@@ -61,9 +61,11 @@ namespace exao {
   return samples <= 64 ? 64 : samples <= 128 ? 128 : samples <= 256 ? 256 : samples <= 512 ? 512 : 1024;
 }
 
-/// Alignment of a Mask: its whole size up to a cache line, so one mask is one aligned load.
+/// Alignment of a Mask: its size up to 16 bytes. Not more: masks cross between code compiled for
+/// different instruction sets (lut/mask_kernels.h), and GCC 12 does not always give a 64-byte
+/// aligned return slot to a callee that assumes one; the vector paths below load unaligned.
 template <int Bits>
-inline constexpr std::size_t kMaskAlign = Bits / 8 < 64 ? Bits / 8 : 64;
+inline constexpr std::size_t kMaskAlign = Bits / 8 < 16 ? Bits / 8 : 16;
 
 template <int Bits>
 struct alignas(kMaskAlign<Bits>) Mask {
@@ -167,9 +169,9 @@ inline int horizontal_sum(__m512i v) {
 template <int Bits, class Op>
 inline void zip512(std::uint64_t* r, const std::uint64_t* a, const std::uint64_t* b, Op op) {
   for (int w = 0; w < Bits / 64; w += 8) {
-    const __m512i x = _mm512_load_si512(a + w);
-    const __m512i y = _mm512_load_si512(b + w);
-    _mm512_store_si512(r + w, op(x, y));
+    const __m512i x = _mm512_loadu_si512(a + w);
+    const __m512i y = _mm512_loadu_si512(b + w);
+    _mm512_storeu_si512(r + w, op(x, y));
   }
 }
 #endif
@@ -177,9 +179,9 @@ inline void zip512(std::uint64_t* r, const std::uint64_t* a, const std::uint64_t
 template <int Bits, class Op>
 inline void zip256(std::uint64_t* r, const std::uint64_t* a, const std::uint64_t* b, Op op) {
   for (int w = 0; w < Bits / 64; w += 4) {
-    const __m256i x = _mm256_load_si256(reinterpret_cast<const __m256i*>(a + w));
-    const __m256i y = _mm256_load_si256(reinterpret_cast<const __m256i*>(b + w));
-    _mm256_store_si256(reinterpret_cast<__m256i*>(r + w), op(x, y));
+    const __m256i x = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(a + w));
+    const __m256i y = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(b + w));
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(r + w), op(x, y));
   }
 }
 #endif
@@ -251,7 +253,7 @@ inline int Mask<Bits>::popcount() const {
   if constexpr (Bits >= 512) {
     __m512i sum = _mm512_setzero_si512();
     for (int w = 0; w < kWords; w += 8) {
-      sum = _mm512_add_epi64(sum, _mm512_popcnt_epi64(_mm512_load_si512(words.data() + w)));
+      sum = _mm512_add_epi64(sum, _mm512_popcnt_epi64(_mm512_loadu_si512(words.data() + w)));
     }
     return simd_detail::horizontal_sum(sum);
   }
@@ -264,16 +266,16 @@ template <int Bits>
 inline bool Mask<Bits>::any() const {
 #if defined(EXAO_SIMD_AVX512)
   if constexpr (Bits >= 512) {
-    __m512i acc = _mm512_load_si512(words.data());
-    for (int w = 8; w < kWords; w += 8) acc = _mm512_or_si512(acc, _mm512_load_si512(words.data() + w));
+    __m512i acc = _mm512_loadu_si512(words.data());
+    for (int w = 8; w < kWords; w += 8) acc = _mm512_or_si512(acc, _mm512_loadu_si512(words.data() + w));
     return _mm512_test_epi64_mask(acc, acc) != 0;
   }
 #endif
 #if defined(EXAO_SIMD_AVX512) || defined(EXAO_SIMD_AVX2)
   if constexpr (Bits >= 256) {
-    __m256i acc = _mm256_load_si256(reinterpret_cast<const __m256i*>(words.data()));
+    __m256i acc = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(words.data()));
     for (int w = 4; w < kWords; w += 4) {
-      acc = _mm256_or_si256(acc, _mm256_load_si256(reinterpret_cast<const __m256i*>(words.data() + w)));
+      acc = _mm256_or_si256(acc, _mm256_loadu_si256(reinterpret_cast<const __m256i*>(words.data() + w)));
     }
     return !_mm256_testz_si256(acc, acc);
   }
@@ -288,7 +290,7 @@ template <int Bits>
   if constexpr (Bits >= 512) {
     __m512i sum = _mm512_setzero_si512();
     for (int w = 0; w < Mask<Bits>::kWords; w += 8) {
-      const __m512i x = _mm512_load_si512(a.words.data() + w) & ~_mm512_load_si512(b.words.data() + w);
+      const __m512i x = _mm512_loadu_si512(a.words.data() + w) & ~_mm512_loadu_si512(b.words.data() + w);
       sum = _mm512_add_epi64(sum, _mm512_popcnt_epi64(x));
     }
     return simd_detail::horizontal_sum(sum);

@@ -168,6 +168,48 @@ void equalise_radii(std::vector<glm::dvec2>& sites, Rng& rng) {
   }
 }
 
+// Sample i's ray is bit i of every mask, and the mask kernels evaluate samples in groups of
+// kSampleCluster consecutive ones, each skipped when its bounding cone cannot reach a triangle
+// or a sphere (lut/sample_clusters.h). So the order matters for speed only, never for the
+// answer: recursive bisection of the directions along their widest axis, down to groups of
+// kSampleCluster, makes each group a compact cone.
+void bisect_into_clusters(std::vector<int>& index, std::size_t first, std::size_t count,
+                          const std::vector<glm::vec3>& directions) {
+  if (count <= static_cast<std::size_t>(kSampleCluster)) return;
+  glm::vec3 lo(2.0f), hi(-2.0f);
+  for (std::size_t k = first; k < first + count; ++k) {
+    lo = glm::min(lo, directions[index[k]]);
+    hi = glm::max(hi, directions[index[k]]);
+  }
+  const glm::vec3 extent = hi - lo;
+  const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : extent.y >= extent.z ? 1 : 2;
+  // Split at a whole number of clusters, as evenly as possible.
+  const std::size_t clusters = count / kSampleCluster;
+  const std::size_t left = (clusters / 2) * kSampleCluster;
+  const auto begin = index.begin() + static_cast<std::ptrdiff_t>(first);
+  std::nth_element(begin, begin + static_cast<std::ptrdiff_t>(left), begin + static_cast<std::ptrdiff_t>(count),
+                   [&](int a, int b) {
+                     const float ka = directions[a][axis], kb = directions[b][axis];
+                     return ka < kb || (ka == kb && a < b);
+                   });
+  bisect_into_clusters(index, first, left, directions);
+  bisect_into_clusters(index, first + left, count - left, directions);
+}
+
+void order_into_clusters(SamplePattern& pattern) {
+  std::vector<int> index(pattern.directions.size());
+  std::iota(index.begin(), index.end(), 0);
+  bisect_into_clusters(index, 0, index.size(), pattern.directions);
+  std::vector<glm::vec3> directions;
+  std::vector<float> lengths;
+  for (const int i : index) {
+    directions.push_back(pattern.directions[i]);
+    lengths.push_back(pattern.lengths[i]);
+  }
+  pattern.directions = std::move(directions);
+  pattern.lengths = std::move(lengths);
+}
+
 void finish(SamplePattern& pattern) {
   pattern.points.resize(pattern.directions.size());
   float min_z = 1.0f;
@@ -250,6 +292,7 @@ SamplePattern build_sample_pattern(int count, Falloff falloff, std::uint64_t see
     const double level = 1.0 - (strata[i] + rng.uniform()) / count;
     pattern.lengths.push_back(std::max(length_from_level(falloff, level), 1e-6f));
   }
+  order_into_clusters(pattern);
   finish(pattern);
   return pattern;
 }

@@ -35,6 +35,9 @@ struct SamplePattern {
 inline constexpr std::uint64_t kDefaultPatternSeed = 0x65CA0;
 inline constexpr int kMinSamples = 32;
 inline constexpr int kMaxSamples = 1024;
+/// Samples per cluster: make_sample_pattern orders the samples so that each run of
+/// kSampleCluster consecutive ones is a compact cone of directions (N is a multiple of it).
+inline constexpr int kSampleCluster = 16;
 
 /// Checks that N is a multiple of 32 in [32, 1024]; the error names the value.
 [[nodiscard]] Result<void> check_sample_count(int count);
@@ -42,7 +45,8 @@ inline constexpr int kMaxSamples = 1024;
 /// Builds the pattern: N random points on the unit disc, Lloyd-relaxed, each moved to a random
 /// point of its Voronoi cell, relaxed a little more, radii re-spaced to stratified levels of r^2
 /// (so the horizon is sampled as densely as the rest), and lifted to the hemisphere
-/// (z = sqrt(1 - x^2 - y^2)), which makes the directions cosine-weighted. Lengths come from the
+/// (z = sqrt(1 - x^2 - y^2)), which makes the directions cosine-weighted, and ordered so that
+/// every kSampleCluster consecutive directions form a compact cone. Lengths come from the
 /// falloff's inverse CDF at stratified, randomly permuted levels, so that the expected value of
 /// Eq. 3 equals Eq. 2. Deterministic for (count, falloff, seed); single-threaded, well under a
 /// second at N = 1024, and cached for the life of the process (thread-safe).

@@ -7,7 +7,8 @@ namespace exao {
 
 Bounds Scene::bounds() const {
   Bounds b;
-  for (const glm::vec3& v : vertices) b.extend(v);
+  const std::size_t model = vertices.size() - std::min(vertices.size(), 3 * ground_triangles);
+  for (std::size_t i = 0; i < model; ++i) b.extend(vertices[i]);
   return b;
 }
 

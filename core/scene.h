@@ -31,13 +31,28 @@ struct Scene {
   std::vector<std::uint8_t> two_sided;  // per triangle: 1 blocks from both sides
   std::vector<std::int32_t> material;   // per triangle: material index, -1 when none
   std::vector<Camera> cameras;          // cameras the file defines, in file order
+  /// Per material index: opacity in [0, 1] for methods that weigh occluders by it (A-buffer AO,
+  /// seed 004). glTF: BLEND is baseColorFactor's alpha, MASK is 1 when that alpha reaches
+  /// alphaCutoff and 0 otherwise, OPAQUE is 1 (textures are not read). Empty, or an index
+  /// beyond it, means opaque. Exact AO ignores it: every triangle blocks.
+  std::vector<float> material_opacity;
   LoadReport report;
+  /// The last `ground_triangles` triangles are an added ground plane (core/ground_plane.h):
+  /// occluders like any other, left out of bounds() so that "5% of the diagonal" and camera
+  /// framing still mean the model's.
+  std::size_t ground_triangles = 0;
 
   [[nodiscard]] std::size_t triangle_count() const { return two_sided.size(); }
   [[nodiscard]] std::array<glm::vec3, 3> triangle(std::size_t i) const {
     return {vertices[3 * i], vertices[3 * i + 1], vertices[3 * i + 2]};
   }
+  /// Bounds of the triangles, the ground plane excepted.
   [[nodiscard]] Bounds bounds() const;
+  /// Opacity of triangle i's material (material_opacity), 1 when it has none.
+  [[nodiscard]] float opacity(std::size_t i) const {
+    const std::int32_t m = material[i];
+    return m >= 0 && static_cast<std::size_t>(m) < material_opacity.size() ? material_opacity[static_cast<std::size_t>(m)] : 1.0f;
+  }
 
   /// Adds a triangle unless it has a non-finite vertex or exactly zero area; either case is
   /// counted in `report`. Returns whether it was added.

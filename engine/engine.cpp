@@ -117,7 +117,7 @@ Result<Engine> Engine::build(std::shared_ptr<const Geometry> geometry, const Opt
     }
     impl->rays = std::move(*rays);
     if (options.method == Method::Embree) return;
-    Result<lut::MaskEngine> masks = lut::MaskEngine::build(impl->rays, options.masks, options.table_resolution);
+    Result<lut::MaskEngine> masks = lut::MaskEngine::build(impl->rays, options.masks, options.table_resolution, options.isa);
     if (!masks) {
       built = std::unexpected(masks.error());
       return;

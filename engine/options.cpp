@@ -11,10 +11,10 @@ namespace {
 constexpr std::array kMethods{Method::Embree, Method::Brute, Method::Bvh, Method::Raster};
 
 // Every field of Options, as errors name them.
-constexpr std::array<std::string_view, 17> kOptionNames{
+constexpr std::array<std::string_view, 18> kOptionNames{
     "radius",       "samples",      "falloff",     "pattern_seed",  "origin_offset", "sidedness",
     "method",       "masks",        "threads",     "table_resolution", "bvh.branching", "bvh.max_leaf_size",
-    "raster.alpha", "raster.stats", "embree.rays", "embree.across_receivers", "embree.coherent"};
+    "raster.alpha", "raster.stats", "embree.rays", "embree.across_receivers", "embree.coherent", "isa"};
 
 template <class Enum>
 bool in_range(Enum value, Enum last) {
@@ -56,6 +56,7 @@ Result<void> check_options(const Options& o) {
   if (o.table_resolution != 0) {
     if (auto ok = lut::check_table_resolution(o.table_resolution); !ok) return ok;
   }
+  if (o.isa && !in_range(*o.isa, Isa::Avx512)) return fail("isa: not an instruction set, got " + number(static_cast<int>(*o.isa)));
   if (auto ok = bvh::check_options(o.bvh); !ok) return ok;
   if (!(std::isfinite(o.raster.alpha) && o.raster.alpha > 0.0f)) {
     return fail("raster.alpha: must be a finite number > 0, got " + std::to_string(o.raster.alpha));

@@ -15,6 +15,7 @@
 #include "bvh/bvh.h"
 #include "core/embree_reference.h"
 #include "core/error.h"
+#include "core/isa.h"
 #include "core/sample_pattern.h"
 #include "core/scene.h"
 #include "lut/mask_engine.h"
@@ -61,6 +62,9 @@ struct Options {
   /// Plane table cells per side (masks = lut): 0 for the default for N, else lut::kMinTableResolution
   /// to lut::kMaxTableResolution.
   int table_resolution = 0;
+  /// The mask kernels' instruction set (core/isa.h); nullopt: default_isa() (EXAO_ISA, else the
+  /// best this CPU runs). A level this CPU does not run is an error when the engine is built.
+  std::optional<Isa> isa;
   bvh::BvhOptions bvh;
   raster::RasterOptions raster;
   /// How Embree is asked (method embree, and the reference in comparisons).

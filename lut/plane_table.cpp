@@ -11,7 +11,7 @@
 
 #include "core/atomic_write.h"
 #include "core/random.h"
-#include "lut/lanes.h"
+#include "lut/mask_kernels.h"
 #include "lut/sample_arrays.h"
 
 namespace exao::lut {
@@ -224,11 +224,12 @@ Result<PlaneTable> PlaneTable::build(const SamplePattern& pattern, TableKind kin
     auto* masks = static_cast<Mask<Bits>*>(table.data());
     // One row of R cells per task item: cells are independent, rows keep the writes contiguous.
     const std::size_t rows = static_cast<std::size_t>(resolution) * static_cast<std::size_t>(resolution);
+    const auto plane_mask = mask_kernels(default_isa()).get<Bits>().plane_mask;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rows), [&](const tbb::blocked_range<std::size_t>& range) {
       for (std::size_t row = range.begin(); row != range.end(); ++row) {
         const std::size_t first = row * static_cast<std::size_t>(resolution);
         for (std::size_t i = first; i < first + static_cast<std::size_t>(resolution); ++i) {
-          masks[i] = plane_mask<NativeLanes, Bits>(x, y, z, table.cell_plane(i));
+          masks[i] = plane_mask(x, y, z, table.cell_plane(i));
         }
       }
     });

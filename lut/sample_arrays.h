@@ -1,17 +1,21 @@
 #pragma once
 // exao::lut::SampleArrays: the shared sample pattern as structure-of-arrays floats, padded to the
-// mask width and aligned to 64 bytes, so the exact kernels stream through them W lanes at a time.
-// Also the exact plane kernels over those arrays (DESIGN.md section 4, "the exact test").
+// mask width and aligned to 64 bytes, so the kernels stream through them W lanes at a time; and
+// the pattern's clusters: each run of kSampleCluster consecutive samples (bits [16k, 16k + 16) of
+// a mask) with the cone that bounds its directions, so that a kernel can skip a whole cluster
+// that a triangle or a sphere provably cannot reach (lut/kernels-inl.h). The clusters change
+// what is computed, never the answer.
 
+#include <algorithm>
+#include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <limits>
 #include <new>
 #include <vector>
 
 #include "core/mask.h"
 #include "core/sample_pattern.h"
-#include "lut/lanes.h"
-#include "lut/plane.h"
 
 namespace exao::lut {
 
@@ -30,11 +34,56 @@ struct CacheLineAllocator {
 
 using AlignedFloats = std::vector<float, CacheLineAllocator<float>>;
 
+/// Clusters of a mask of Bits bits: Bits / kSampleCluster, at most 64 (one bit each in a word).
+[[nodiscard]] constexpr int clusters_for_bits(int bits) { return bits / kSampleCluster; }
+
+/// The set of every cluster of a Bits-bit mask, one bit per cluster.
+template <int Bits>
+inline constexpr std::uint64_t kAllClusters =
+    clusters_for_bits(Bits) == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << clusters_for_bits(Bits)) - 1;
+
+/// The clusters in which `mask` has a bit set.
+template <int Bits>
+[[nodiscard]] inline std::uint64_t occupied_clusters(const Mask<Bits>& mask) {
+  std::uint64_t clusters = 0;
+  for (int w = 0; w < Mask<Bits>::kWords; ++w) {
+    for (int j = 0; j < 4; ++j) {
+      if ((mask.words[w] >> (16 * j)) & 0xFFFFu) clusters |= std::uint64_t{1} << (4 * w + j);
+    }
+  }
+  return clusters;
+}
+
+/// The clusters in which `mask` still has a bit clear among the first n samples: where more
+/// occlusion can be found. (Clusters past n hold no samples and count as full.)
+template <int Bits>
+[[nodiscard]] inline std::uint64_t open_clusters(const Mask<Bits>& mask, int n) {
+  std::uint64_t clusters = 0;
+  const int count = n / kSampleCluster;
+  for (int k = 0; k < count; ++k) {
+    if (((mask.words[k >> 2] >> (16 * (k & 3))) & 0xFFFFu) != 0xFFFFu) clusters |= std::uint64_t{1} << k;
+  }
+  return clusters;
+}
+
+/// The mask with every bit of the clusters in `clusters` set (among the first Bits bits).
+template <int Bits>
+[[nodiscard]] inline Mask<Bits> cluster_bits(std::uint64_t clusters) {
+  Mask<Bits> m;
+  for (int k = 0; k < clusters_for_bits(Bits); ++k) {
+    if ((clusters >> k) & 1u) m.words[k >> 2] |= std::uint64_t{0xFFFF} << (16 * (k & 3));
+  }
+  return m;
+}
+
 class SampleArrays {
  public:
   SampleArrays() = default;
   /// Copies the pattern's points, directions and lengths (normalised units, r = 1) into arrays
   /// of mask_bits_for(N) floats each; entries N.. are NaN so that every comparison on them fails.
+  /// Computes each cluster's cone: its axis (the normalised mean direction) and half-angle, with
+  /// the cosine rounded down and the sine rounded up (conservative). Padding clusters get a cone
+  /// no test can reach (cos = 2, sin = -2).
   explicit SampleArrays(const SamplePattern& pattern)
       : count_(pattern.count), bits_(mask_bits_for(pattern.count)) {
     const float nan = std::numeric_limits<float>::quiet_NaN();
@@ -50,6 +99,29 @@ class SampleArrays {
       wz_[i] = pattern.directions[i].z;
       length_[i] = pattern.lengths[i];
     }
+    // Cluster arrays padded to 16 floats at least: one AVX-512 load covers all of N <= 256.
+    const int clusters = clusters_for_bits(bits_);
+    const std::size_t padded = static_cast<std::size_t>(std::max(16, clusters));
+    for (AlignedFloats* a : {&cx_, &cy_, &cz_}) a->assign(padded, 0.0f);
+    ccos_.assign(padded, 2.0f);
+    csin_.assign(padded, -2.0f);
+    for (int k = 0; k < count_ / kSampleCluster; ++k) {
+      glm::dvec3 sum(0.0);
+      for (int i = kSampleCluster * k; i < kSampleCluster * (k + 1); ++i) sum += glm::dvec3(pattern.directions[i]);
+      const glm::vec3 axis(glm::normalize(sum));
+      double widest = 0.0;
+      for (int i = kSampleCluster * k; i < kSampleCluster * (k + 1); ++i) {
+        const double c = glm::dot(glm::dvec3(axis), glm::dvec3(pattern.directions[i]));
+        widest = std::max(widest, std::acos(std::clamp(c, -1.0, 1.0)));
+      }
+      widest += 1e-6;  // the float axis and directions, taken as exact, are within this
+      cx_[k] = axis.x;
+      cy_[k] = axis.y;
+      cz_[k] = axis.z;
+      ccos_[k] = std::nextafter(static_cast<float>(std::cos(widest)), -1.0f);
+      csin_[k] = std::nextafter(static_cast<float>(std::sin(widest)), 2.0f);
+    }
+    build_grid();
   }
 
   [[nodiscard]] int count() const { return count_; }  // N
@@ -64,47 +136,49 @@ class SampleArrays {
   [[nodiscard]] const float* wz() const { return wz_.data(); }
   // Lengths l_i in (0, 1].
   [[nodiscard]] const float* length() const { return length_.data(); }
+  // Cluster cones: unit axes, cosine (rounded down) and sine (rounded up) of the half-angles.
+  [[nodiscard]] const float* cluster_x() const { return cx_.data(); }
+  [[nodiscard]] const float* cluster_y() const { return cy_.data(); }
+  [[nodiscard]] const float* cluster_z() const { return cz_.data(); }
+  [[nodiscard]] const float* cluster_cos() const { return ccos_.data(); }
+  [[nodiscard]] const float* cluster_sin() const { return csin_.data(); }
+
+  // The direction grid: G x G cells over [-1, 1]^2 of (w.x, w.y), about one sample per cell;
+  // cell (i, j) holds samples grid_samples()[grid_start()[j G + i] .. grid_start()[j G + i + 1]).
+  // A kernel whose cone is small finds its few candidate samples here instead of testing every
+  // cluster (lut/kernels-inl.h, near_samples).
+  [[nodiscard]] int grid_size() const { return grid_size_; }
+  [[nodiscard]] const std::uint16_t* grid_start() const { return grid_start_.data(); }
+  [[nodiscard]] const std::uint16_t* grid_samples() const { return grid_samples_.data(); }
+  /// The grid cell of a coordinate in [-1, 1] (clamped): the one formula every user calls.
+  [[nodiscard]] int grid_cell(float x) const {
+    const float cell = std::floor((x + 1.0f) * (0.5f * static_cast<float>(grid_size_)));
+    return static_cast<int>(std::clamp(cell, 0.0f, static_cast<float>(grid_size_ - 1)));
+  }
 
  private:
   int count_ = 0;
   int bits_ = 0;
   AlignedFloats px_, py_, pz_, wx_, wy_, wz_, length_;
+  AlignedFloats cx_, cy_, cz_, ccos_, csin_;
+  int grid_size_ = 1;
+  std::vector<std::uint16_t> grid_start_, grid_samples_;
+
+  void build_grid() {
+    // The disc covers pi/4 of the square: G^2 ~ 4N/pi cells give about one sample per cell.
+    grid_size_ = std::max(4, static_cast<int>(std::ceil(std::sqrt(4.0 * count_ / 3.14159265))));
+    const int cells = grid_size_ * grid_size_;
+    std::vector<int> cell_of(static_cast<std::size_t>(count_));
+    grid_start_.assign(static_cast<std::size_t>(cells) + 1, 0);
+    for (int i = 0; i < count_; ++i) {
+      cell_of[i] = grid_cell(wy_[i]) * grid_size_ + grid_cell(wx_[i]);
+      ++grid_start_[static_cast<std::size_t>(cell_of[i]) + 1];
+    }
+    for (int c = 0; c < cells; ++c) grid_start_[c + 1] = static_cast<std::uint16_t>(grid_start_[c + 1] + grid_start_[c]);
+    grid_samples_.assign(static_cast<std::size_t>(count_), 0);
+    std::vector<int> next(grid_start_.begin(), grid_start_.end() - 1);
+    for (int i = 0; i < count_; ++i) grid_samples_[next[cell_of[i]]++] = static_cast<std::uint16_t>(i);
+  }
 };
-
-/// Bit i set iff point i (x[i], y[i], z[i]) is on the positive side of `plane`: the mask a
-/// plane-table cell stores, and the exact test of one plane. Arrays of Bits floats, aligned.
-template <class L, int Bits>
-[[nodiscard]] Mask<Bits> plane_mask(const float* x, const float* y, const float* z, const Plane& plane) {
-  const auto mx = L::set(plane.m.x), my = L::set(plane.m.y), mz = L::set(plane.m.z), d = L::set(plane.d);
-  return gather_bits<L, Bits>([&](int i) {
-    const auto dot = L::add(L::add(L::mul(mx, L::load(x + i)), L::mul(my, L::load(y + i))), L::mul(mz, L::load(z + i)));
-    return L::ge(dot, d);
-  });
-}
-
-/// Bit i set iff sample point i is on the positive side of all three edge planes (d = 0) and of
-/// the triangle's plane: the exact triangle mask before the region clip (DESIGN.md section 4).
-/// One pass over the points instead of four masks AND-ed.
-template <class L, int Bits>
-[[nodiscard]] Mask<Bits> triangle_planes_mask(const SampleArrays& samples, const Plane (&edge)[3], const Plane& face) {
-  const auto e0x = L::set(edge[0].m.x), e0y = L::set(edge[0].m.y), e0z = L::set(edge[0].m.z);
-  const auto e1x = L::set(edge[1].m.x), e1y = L::set(edge[1].m.y), e1z = L::set(edge[1].m.z);
-  const auto e2x = L::set(edge[2].m.x), e2y = L::set(edge[2].m.y), e2z = L::set(edge[2].m.z);
-  const auto fx = L::set(face.m.x), fy = L::set(face.m.y), fz = L::set(face.m.z), fd = L::set(face.d);
-  const auto zero = L::set(0.0f);
-  const float* px = samples.px();
-  const float* py = samples.py();
-  const float* pz = samples.pz();
-  return gather_bits<L, Bits>([&](int i) {
-    const auto x = L::load(px + i), y = L::load(py + i), z = L::load(pz + i);
-    const auto dot = [&](auto mx, auto my, auto mz) {
-      return L::add(L::add(L::mul(mx, x), L::mul(my, y)), L::mul(mz, z));
-    };
-    auto m = L::ge(dot(fx, fy, fz), fd);
-    m = L::both(m, L::ge(dot(e0x, e0y, e0z), zero));
-    m = L::both(m, L::ge(dot(e1x, e1y, e1z), zero));
-    return L::both(m, L::ge(dot(e2x, e2y, e2z), zero));
-  });
-}
 
 }  // namespace exao::lut

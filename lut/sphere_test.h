@@ -27,9 +27,6 @@
 
 #include <glm/glm.hpp>
 
-#include "core/mask.h"
-#include "lut/lanes.h"
-#include "lut/sample_arrays.h"
 
 namespace exao::lut {
 
@@ -38,6 +35,14 @@ struct SphereTest {
   Kind kind = Kind::None;
   glm::vec3 centre{0.0f};  // c / r
   float radius2 = 0.0f;    // (rho' / r)^2, rounded up
+  // The cone from the origin that holds the grown ball (Kind::Rays): axis c / |c|, half-angle
+  // asin(rho' / |c|), with the sine rounded up by 1e-5 relative and the cosine down. A cluster
+  // of rays whose cone misses it by more than kClusterSlack holds no bit of the mask
+  // (lut/kernels-inl.h, sphere_reach). cone_sin = 2: the ball fills so much of the view (half-angle
+  // over ~87 degrees) that the rounding argument no longer holds: every cluster is tested.
+  glm::vec3 axis{0.0f, 0.0f, 1.0f};
+  float cone_cos = -1.0f;
+  float cone_sin = 2.0f;
 };
 
 /// The test of a sphere at `centre` (receiver frame, world units) of radius `radius` (world
@@ -45,44 +50,29 @@ struct SphereTest {
 /// infinite input gives Kind::All (nothing can be bounded).
 [[nodiscard]] inline SphereTest make_sphere_test(const glm::vec3& centre, float radius, float ray_radius,
                                                  float margin) {
+  // Float, with every rounding covered: |c| and the grown radius carry a few ulps (~3e-7
+  // relative), far below the factors that round them up here (1e-6), and every comparison that
+  // could go either way at the rounding level goes the conservative way (All, or a bigger ball).
   SphereTest test;
-  const glm::dvec3 c(centre);
-  const double len = std::sqrt(glm::dot(c, c));
-  const double grown = static_cast<double>(radius) + static_cast<double>(margin) * len;
-  if (!(std::isfinite(len) && std::isfinite(grown)) || len <= grown) {
+  const float len = std::sqrt(glm::dot(centre, centre));
+  const float grown = (radius + margin * len) * (1.0f + 1e-6f);
+  if (!(std::isfinite(len) && std::isfinite(grown)) || len <= grown * (1.0f + 1e-6f)) {
     test.kind = SphereTest::Kind::All;
     return test;
   }
-  if (c.z < -grown) return test;  // Kind::None
-  const double inv_r = 1.0 / static_cast<double>(ray_radius);
+  if (centre.z < -grown) return test;  // Kind::None
+  const float inv_r = 1.0f / ray_radius;
   test.kind = SphereTest::Kind::Rays;
-  test.centre = glm::vec3(c * inv_r);
-  // Rounded up: one float rounding is below 2^-24 relative, the factor adds 2^-22.
-  test.radius2 = static_cast<float>(grown * grown * inv_r * inv_r) * (1.0f + 0x1p-22f);
+  test.centre = centre * inv_r;
+  const float grown_r = grown * inv_r;
+  test.radius2 = grown_r * grown_r * (1.0f + 1e-6f);
+  const float sine = grown / len * (1.0f + 1e-5f);
+  if (sine < 0.999f) {
+    test.axis = centre / len;
+    test.cone_sin = sine;
+    test.cone_cos = std::sqrt(1.0f - sine * sine) * (1.0f - 1e-6f);
+  }
   return test;
-}
-
-/// The mask of a SphereTest over the pattern's directions and lengths.
-template <class L, int Bits>
-[[nodiscard]] Mask<Bits> sphere_mask(const SampleArrays& samples, const SphereTest& test) {
-  if (test.kind == SphereTest::Kind::None) return {};
-  if (test.kind == SphereTest::Kind::All) return Mask<Bits>::ones(samples.count());
-  const auto cx = L::set(test.centre.x), cy = L::set(test.centre.y), cz = L::set(test.centre.z);
-  const auto radius2 = L::set(test.radius2);
-  const auto zero = L::set(0.0f);
-  const float* wx = samples.wx();
-  const float* wy = samples.wy();
-  const float* wz = samples.wz();
-  const float* length = samples.length();
-  return gather_bits<L, Bits>([&](int i) {
-    const auto x = L::load(wx + i), y = L::load(wy + i), z = L::load(wz + i);
-    const auto along = L::add(L::add(L::mul(x, cx), L::mul(y, cy)), L::mul(z, cz));
-    // Padding lanes: the NaN length leaves t at 0 or NaN, and w = NaN makes q NaN: no bit.
-    const auto t = L::min(L::max(along, zero), L::load(length + i));
-    const auto qx = L::sub(L::mul(t, x), cx), qy = L::sub(L::mul(t, y), cy), qz = L::sub(L::mul(t, z), cz);
-    const auto q2 = L::add(L::add(L::mul(qx, qx), L::mul(qy, qy)), L::mul(qz, qz));
-    return L::le(q2, radius2);
-  });
 }
 
 }  // namespace exao::lut

@@ -8,6 +8,8 @@ packages=(
   libembree-dev libtbb-dev libglm-dev libopenexr-dev libtinygltf-dev nlohmann-json3-dev
   libcgal-dev libgmp-dev libmpfr-dev libboost-dev
   libpng-dev libcli11-dev
+  libdraco-dev libmeshoptimizer-dev
+  draco gltfpack  # command-line encoders: the tests make Draco and meshopt files with them
   libgtest-dev libgmock-dev libbenchmark-dev
 )
 

@@ -122,6 +122,19 @@ TEST(BakeCli, TextureBakeWritesMapsBesideTheGltf) {
   EXPECT_EQ(header[25], 0);
 }
 
+// --compare with exact masks prints the agreement ray by ray, and sorts the rays that differ
+// into grazing or not (docs/surface-rule.md): on `corners`, vertex receivers on every corner
+// and edge, none may differ but by grazing.
+TEST(BakeCli, CompareWithExactMasksReportsGrazingRays) {
+  test::TempDir dir;
+  const CommandResult result =
+      exao("bake corners -n 64 --masks exact --compare embree --preview '' -o " + quote(dir / "c.glb"));
+  ASSERT_EQ(result.status, 0) << result.output;
+  EXPECT_NE(result.output.find("rays agree"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("grazing"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find(", 0 by a ray that does not graze"), std::string::npos) << result.output;
+}
+
 TEST(BakeCli, ObjInputIsConvertedToGlb) {
   test::TempDir dir;
   test::write_file(dir / "tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 3 4\nf 1 4 2\n");
@@ -188,6 +201,12 @@ TEST_F(Validator, PassesOnEveryBake) {
       {"OrientationTest/glTF-Binary/OrientationTest.glb", "", "orientation.glb"},
       {"Fox/glTF/Fox.gltf", "--texture 128", "fox.gltf"},
       {"AlphaBlendModeTest/glTF/AlphaBlendModeTest.gltf", "--texture 64", "alpha.glb"},
+      // Generated AO UV sets (issue 15): quantised attributes, skins and instancing copied along
+      // the split vertices, and the ground plane.
+      {"Duck/glTF-Quantized/Duck.gltf", "--texture 128", "duck-quantized-texture.gltf"},
+      {"Fox/glTF/Fox.gltf", "--texture 128 --uv generate", "fox-generated.glb"},
+      {"SimpleInstancing/glTF/SimpleInstancing.gltf", "--texture 64 --uv generate", "instancing-generated.gltf"},
+      {"Box/glTF-Binary/Box.glb", "--texture 64 --ground", "box-ground.glb"},
   };
   test::TempDir dir;
   std::size_t validated = 0;
@@ -226,10 +245,12 @@ TEST(BakeCli, BadInputGetsOneClearLine) {
   write_triangles(dir / "tiling.gltf", true, 2.0f);
   write_triangles(dir / "fine.gltf", true);
   const std::string n = " -n 32 --preview '' ";
-  expect_one_line_error(exao("bake " + quote(dir / "plain.gltf") + n + "--texture 64 -o " + quote(dir / "a.glb")),
+  expect_one_line_error(exao("bake " + quote(dir / "plain.gltf") + n + "--texture 64 --uv file -o " + quote(dir / "a.glb")),
                         "has no TEXCOORD_0: a texture bake needs UVs; bake per vertex");
-  expect_one_line_error(exao("bake " + quote(dir / "tiling.gltf") + n + "--texture 64 -o " + quote(dir / "a.glb")),
+  expect_one_line_error(exao("bake " + quote(dir / "tiling.gltf") + n + "--texture 64 --uv file -o " + quote(dir / "a.glb")),
                         "outside [0, 1]");
+  expect_one_line_error(exao("bake " + quote(dir / "fine.gltf") + n + "--texture 64 --uv sometimes -o " + quote(dir / "a.glb")),
+                        "--uv: must be auto, file or generate");
   expect_one_line_error(exao("bake " + quote(dir / "fine.gltf") + n + "-o " + quote(dir / "fine.gltf")),
                         "refusing to overwrite");
   expect_one_line_error(exao("bake " + quote(dir / "fine.gltf") + n + "-o " + quote(dir / "nowhere" / "a.glb")),

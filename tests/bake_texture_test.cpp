@@ -287,6 +287,7 @@ TEST(BakeTexture, MissingOrTilingUvsAreClearErrors) {
   test::TempDir dir;
   bake::BakeOptions options;
   options.target = bake::Target::Texture;
+  options.uv = bake::UvMode::File;  // uv auto (the default) would generate a set instead
   // No AO is computed for bad input: the engine's progress never moves.
   const ProgressCallback never = [](std::size_t, std::size_t) { ADD_FAILURE() << "no AO is computed for bad input"; };
   write_quads(dir.path(), false, false);

@@ -199,37 +199,98 @@ TEST(TriangleMask, ExactModeEqualsRayCastingInDouble) {
   EXPECT_GE(agreement, 0.99999);
 }
 
-TEST(TriangleMask, VectorEqualsScalarTwin) {
+// A random triangle near the receiver of `frame`, of a size from 0.003 to 1.6 r.
+TriangleSet random_nearby_triangle(Rng& rng, const Frame& frame, float radius);
+
+// Every instruction set the CPU runs gives the scalar twin's bits: triangle, region and plane
+// masks, at every N, in both mask modes (DESIGN.md section 8.6).
+TEST(TriangleMask, EveryInstructionSetEqualsTheScalarTwin) {
+  std::cout << "instruction sets tested:";
+  for (const Isa isa : supported_isas()) std::cout << ' ' << isa_name(isa);
+  std::cout << " (default " << isa_name(default_isa()) << ")\n";
   for (const int n : {32, 64, 96, 128, 256, 512, 1024}) {
     const ShadowRays rays = rays_of(n, Falloff::Linear, 1.5f);
     for (const MaskMode mode : {MaskMode::Exact, MaskMode::Lut}) {
-      const MaskEngine engine = engine_of(rays, mode, 24);
-      Rng rng(static_cast<std::uint64_t>(n));
-      with_mask_bits(n, [&](auto bits) {
-        constexpr int Bits = decltype(bits)::value;
-        int nonempty = 0;
-        for (int trial = 0; trial < 3000; ++trial) {
-          const Frame frame = random_frame(rng, rays, 10.0f);
-          const glm::dvec3 middle = random_in_box(rng, {-0.8, -0.8, -0.2}, {0.8, 0.8, 0.9});
-          const double size = std::pow(10.0, -1.5 + 1.7 * rng.uniform());
-          const glm::dvec3 a = middle + size * random_unit(rng), b = middle + size * random_unit(rng),
-                           c = middle + size * random_unit(rng);
-          const TriangleSet set = one_triangle(frame, rays.radius, a, b, c, true);
-          const Mask<Bits> vector = engine.triangle_mask<Bits>(set, 0, frame);
-          nonempty += vector.any();
-          ASSERT_EQ(vector, (engine.triangle_mask<Bits, ScalarLanes>(set, 0, frame))) << n << ' ' << trial;
-          const glm::vec3 centre = frame.to_local(set.centre[0]);
-          ASSERT_EQ((engine.region_mask<Bits>(centre, set.radius[0], kNodeMargin)),
-                    (engine.region_mask<Bits, ScalarLanes>(centre, set.radius[0], kNodeMargin)));
-          const Plane plane{glm::vec3(random_unit(rng)), static_cast<float>(rng.uniform())};
-          ASSERT_EQ(engine.plane_mask<Bits>(plane), (engine.plane_mask<Bits, ScalarLanes>(plane)));
-          // Bits at or beyond N are never set.
-          ASSERT_EQ(and_not(vector, engine.all_rays<Bits>()).popcount(), 0);
-        }
-        EXPECT_GT(nonempty, 300) << n;
-      });
+      auto built = MaskEngine::build(rays, mode, 24, Isa::Scalar);
+      ASSERT_TRUE(built);
+      const MaskEngine scalar = std::move(*built);
+      for (const Isa isa : supported_isas()) {
+        auto other = MaskEngine::build(rays, mode, 24, isa);
+        ASSERT_TRUE(other);
+        const MaskEngine& engine = *other;
+        ASSERT_EQ(engine.isa(), isa);
+        Rng rng(static_cast<std::uint64_t>(n));
+        with_mask_bits(n, [&](auto bits) {
+          constexpr int Bits = decltype(bits)::value;
+          int nonempty = 0;
+          for (int trial = 0; trial < 1500; ++trial) {
+            const Frame frame = random_frame(rng, rays, 10.0f);
+            const TriangleSet set = random_nearby_triangle(rng, frame, rays.radius);
+            const Mask<Bits> vector = engine.triangle_mask<Bits>(set, 0, frame);
+            nonempty += vector.any();
+            ASSERT_EQ(vector, scalar.triangle_mask<Bits>(set, 0, frame)) << isa_name(isa) << ' ' << n << ' ' << trial;
+            const glm::vec3 centre = frame.to_local(set.centre[0]);
+            ASSERT_EQ((engine.region_mask<Bits>(centre, set.radius[0], kNodeMargin)),
+                      (scalar.region_mask<Bits>(centre, set.radius[0], kNodeMargin)));
+            const Plane plane{glm::vec3(random_unit(rng)), static_cast<float>(rng.uniform())};
+            ASSERT_EQ(engine.plane_mask<Bits>(plane), scalar.plane_mask<Bits>(plane));
+            // Bits at or beyond N are never set.
+            ASSERT_EQ(and_not(vector, engine.all_rays<Bits>()).popcount(), 0);
+          }
+          EXPECT_GT(nonempty, 100) << n;
+        });
+      }
     }
   }
+}
+
+// The cluster culling of lut/kernels-inl.h skips work only: with it on, every mask equals the
+// mask computed on every cluster; a mask asked for some clusters is the full mask on those; and
+// a cull made too tight (cones shrunk by a negative slack) is caught by this very comparison.
+TEST(TriangleMask, ClusterCullingChangesNoBitAndATighterCullIsCaught) {
+  for (const int n : {64, 128, 1024}) {
+    for (const Falloff falloff : {Falloff::Constant, Falloff::Linear}) {
+      const ShadowRays rays = rays_of(n, falloff, 1.5f);
+      for (const MaskMode mode : {MaskMode::Exact, MaskMode::Lut}) {
+        MaskEngine culled = engine_of(rays, mode, 32);
+        MaskEngine every = engine_of(rays, mode, 32);
+        MaskEngine tight = engine_of(rays, mode, 32);
+        every.set_cluster_culling_for_test(false, kClusterSlack);
+        tight.set_cluster_culling_for_test(true, -0.05f);
+        Rng rng(static_cast<std::uint64_t>(n) * 7 + static_cast<std::uint64_t>(mode));
+        with_mask_bits(n, [&](auto bits) {
+          constexpr int Bits = decltype(bits)::value;
+          int nonempty = 0, tight_differs = 0;
+          for (int trial = 0; trial < 4000; ++trial) {
+            const Frame frame = random_frame(rng, rays, 10.0f);
+            const TriangleSet set = random_nearby_triangle(rng, frame, rays.radius);
+            const Mask<Bits> reference = every.triangle_mask<Bits>(set, 0, frame);
+            nonempty += reference.any();
+            ASSERT_EQ(culled.triangle_mask<Bits>(set, 0, frame), reference) << n << ' ' << trial;
+            tight_differs += tight.triangle_mask<Bits>(set, 0, frame) != reference;
+            const std::uint64_t some = rng.next() & kAllClusters<Bits>;
+            ASSERT_EQ(culled.triangle_mask<Bits>(set, 0, frame, some), reference & cluster_bits<Bits>(some));
+            const glm::vec3 centre = frame.to_local(set.centre[0]);
+            const float grown = set.radius[0] * static_cast<float>(1.0 + 3.0 * rng.uniform());
+            const Mask<Bits> region = every.region_mask<Bits>(centre, grown, kNodeMargin);
+            ASSERT_EQ(culled.region_mask<Bits>(centre, grown, kNodeMargin), region);
+            ASSERT_EQ(culled.region_mask<Bits>(centre, grown, kNodeMargin, some), region & cluster_bits<Bits>(some));
+            tight_differs += tight.region_mask<Bits>(centre, grown, kNodeMargin) != region;
+          }
+          EXPECT_GT(nonempty, 250) << n;
+          EXPECT_GT(tight_differs, 10) << "a too-tight cluster cull went unnoticed at N = " << n;
+        });
+      }
+    }
+  }
+}
+
+TriangleSet random_nearby_triangle(Rng& rng, const Frame& frame, float radius) {
+  const glm::dvec3 middle = random_in_box(rng, {-0.8, -0.8, -0.2}, {0.8, 0.8, 0.9});
+  const double size = std::pow(10.0, -2.5 + 2.7 * rng.uniform());
+  const glm::dvec3 a = middle + size * random_unit(rng), b = middle + size * random_unit(rng),
+                   c = middle + size * random_unit(rng);
+  return one_triangle(frame, radius, a, b, c, true);
 }
 
 TEST(TriangleMask, LutMasksStayInsideTheTrianglesRegionMask) {

@@ -1,8 +1,9 @@
 // The public API's single-point queries (exao::api::Engine::ao) from several threads at once,
 // against the loop a renderer writes without exao: N rtcOccluded rays per shading point, cast
 // by the caller with Embree (one at a time, and in packets of 16 rays of the point). Scene: the
-// built-in room, all triangles two-sided (so that a plain Embree scene, no back-face filter,
-// computes the same AO), r = 0.5 and 1, N = 64 and 256. Each iteration is one shading point: the next
+// built-in room, or the scene the environment variable EXAO_BENCH_SCENE names (a built-in or a
+// file), all triangles two-sided (so that a plain Embree scene, no back-face filter, computes
+// the same AO), r = 1% and 5% of the scene's diagonal, N = 64 and 256. Each iteration is one shading point: the next
 // of 4096 points on the room's surfaces, in random order (a renderer's bounce and reflection
 // points are not coherent). items_per_second is shading points per second, over all threads;
 // `rays` is N x that.
@@ -12,7 +13,10 @@
 #include <benchmark/benchmark.h>
 #include <embree3/rtcore.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <limits>
 #include <cstdint>
@@ -71,18 +75,33 @@ struct Workload {
   double same_ao = 0.0;  // share of points where exact-mode exao and the Embree loop give the same AO
 };
 
-const Workload& workload(int samples, float radius) {
+// The diagonal of the scene's bounding box.
+float diagonal_of(const api::SceneData& scene) {
+  float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+  for (std::size_t i = 0; i < scene.positions.size(); ++i) {
+    lo[i % 3] = std::min(lo[i % 3], scene.positions[i]);
+    hi[i % 3] = std::max(hi[i % 3], scene.positions[i]);
+  }
+  return std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
+}
+
+const Workload& workload(int samples, float radius_permille) {
   static std::mutex mutex;
   static std::map<std::pair<int, float>, std::unique_ptr<Workload>> cache;
   const std::lock_guard lock(mutex);
-  std::unique_ptr<Workload>& w = cache[{samples, radius}];
+  std::unique_ptr<Workload>& w = cache[{samples, radius_permille}];
   if (w) return *w;
   w = std::make_unique<Workload>();
   w->samples = samples;
-  api::Result<api::SceneData> scene = api::load_scene("room");
+  const char* named = std::getenv("EXAO_BENCH_SCENE");
+  api::Result<api::SceneData> scene = api::load_scene(named && *named ? named : "room");
+  if (!scene) {
+    std::fprintf(stderr, "api_benchmark: %s\n", scene.error().message.c_str());
+    std::exit(1);
+  }
   api::Options options;
   options.samples = samples;
-  options.radius = radius;
+  options.radius = radius_permille * 1e-3f * diagonal_of(*scene);
   options.sidedness = api::Sidedness::Two;
   w->lut = std::make_unique<api::Engine>(std::move(*api::Engine::build(scene->mesh(), options)));
   options.mask_mode = api::MaskMode::Exact;
@@ -124,9 +143,8 @@ const Workload& workload(int samples, float radius) {
   return *w;
 }
 
-// The radius of a run: its second argument, in tenths of a world unit (the room is 10 x 4 x 8,
-// tessellated into 0.25-unit cells; exao's default radius for it is 0.67).
-float radius_of(const benchmark::State& state) { return 0.1f * static_cast<float>(state.range(1)); }
+// The radius of a run: its second argument, in thousandths of the scene's diagonal.
+float radius_of(const benchmark::State& state) { return static_cast<float>(state.range(1)); }
 
 // Point k of a thread: threads walk the points in different orders.
 std::size_t point_index(std::size_t k, int thread) {
@@ -226,14 +244,14 @@ void BM_ExaoBatch(benchmark::State& state) {
 }
 
 void configure(benchmark::internal::Benchmark* b) {
-  b->ArgNames({"N", "r10"})->ArgsProduct({{64, 256}, {5, 10}})->Threads(1)->Threads(2)->Threads(4)->UseRealTime();
+  b->ArgNames({"N", "r_permille"})->ArgsProduct({{64, 256}, {10, 50}})->Threads(1)->Threads(2)->Threads(4)->UseRealTime();
 }
 
 BENCHMARK_CAPTURE(BM_ExaoAo, lut, false)->Apply(configure);
 BENCHMARK_CAPTURE(BM_ExaoAo, exact, true)->Apply(configure);
 BENCHMARK(BM_EmbreeOccluded1)->Apply(configure);
 BENCHMARK(BM_EmbreeOccluded16)->Apply(configure);
-BENCHMARK(BM_ExaoBatch)->ArgNames({"N", "r10"})->ArgsProduct({{64, 256}, {5, 10}})->UseRealTime();
+BENCHMARK(BM_ExaoBatch)->ArgNames({"N", "r_permille"})->ArgsProduct({{64, 256}, {10, 50}})->UseRealTime();
 
 }  // namespace
 

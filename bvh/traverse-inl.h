@@ -1,0 +1,96 @@
+// The BVH traversal of bvh/traverse.h for one instruction set, with the mask kernels inline.
+// Included by bvh/traverse_isa.cpp inside namespace EXAO_KERNEL_NS, after lut/kernels-inl.h.
+//
+// Clusters: the traversal asks the kernels only for the clusters of rays that can still change
+// the answer. A node's children are masked on the clusters that still have an open ray (a full
+// cluster adds nothing to any estimate popcount(mask & ~blocked)); a leaf's triangles on the
+// clusters where the leaf's own mask still has an open ray (every triangle mask below lies inside
+// the leaf's mask: the nesting of lut/sphere_test.h). Since blocked only grows, what was full or
+// outside the leaf's mask when the mask was computed stays irrelevant when it is used.
+
+template <int Bits, bool Stats>
+[[nodiscard]] Mask<Bits> traverse_receiver(const Bvh& bvh, const lut::MaskEngine& engine, const Frame& frame,
+                                           TraversalStats* stats) {
+  const lut::KernelContext& ctx = engine.kernel_context();
+  lut::KernelCounters* counters = Stats ? &stats->kernels : nullptr;
+  const int n_rays = engine.samples();
+  const float r = ctx.radius;
+  const Mask<Bits> all = engine.template all_rays<Bits>();
+  Mask<Bits> blocked;
+  const glm::vec3 o = frame.origin;
+  const glm::vec3 n = frame.normal;
+  // Float slack for the world-space tests below, which triangle_mask computes differently.
+  const float slack = engine.reach_slack(o, 0.0f);
+  const float reach2 = (r + slack) * (r + slack);
+
+  alignas(64) detail::StackEntry<Bits> stack[detail::kStackSize];
+  int top = 0;
+  std::uint32_t node_index = 0;
+  if constexpr (Stats) ++stats->receivers;
+
+  while (true) {
+    const Node& node = bvh.nodes[node_index];
+    if constexpr (Stats) ++stats->nodes_visited;
+    const std::uint64_t open = lut::open_clusters(blocked, n_rays);
+
+    // Cull and estimate every child of the node.
+    int estimate[kMaxChildren];
+    Mask<Bits> child_mask[kMaxChildren];
+    int order[kMaxChildren];
+    int survivors = 0;
+    for (int k = 0; k < node.child_count; ++k) {
+      const float dx = std::max({node.lo_x[k] - o.x, 0.0f, o.x - node.hi_x[k]});
+      const float dy = std::max({node.lo_y[k] - o.y, 0.0f, o.y - node.hi_y[k]});
+      const float dz = std::max({node.lo_z[k] - o.z, 0.0f, o.z - node.hi_z[k]});
+      if (dx * dx + dy * dy + dz * dz > reach2) continue;
+      // Highest point of the box above the tangent plane: centre height + half extents along |n|.
+      const glm::vec3 mid(0.5f * (node.lo_x[k] + node.hi_x[k]), 0.5f * (node.lo_y[k] + node.hi_y[k]),
+                          0.5f * (node.lo_z[k] + node.hi_z[k]));
+      const glm::vec3 half(0.5f * (node.hi_x[k] - node.lo_x[k]), 0.5f * (node.hi_y[k] - node.lo_y[k]),
+                           0.5f * (node.hi_z[k] - node.lo_z[k]));
+      const float top_height = glm::dot(mid - o, n) + glm::dot(half, glm::abs(n));
+      if (top_height < -slack) continue;
+      const glm::vec3 centre = frame.to_local(glm::vec3(node.centre_x[k], node.centre_y[k], node.centre_z[k]));
+      child_mask[k] = region_mask<Bits>(ctx, centre, node.radius[k], lut::kNodeMargin, open, counters);
+      estimate[k] = popcount_and_not(child_mask[k], blocked);
+      if (estimate[k] == 0) continue;
+      order[survivors++] = k;
+    }
+    // Largest estimate first: push in increasing order, so the largest is popped next
+    // (insertion sort: at most four children).
+    for (int i = 1; i < survivors; ++i) {
+      for (int j = i; j > 0 && estimate[order[j]] < estimate[order[j - 1]]; --j) std::swap(order[j], order[j - 1]);
+    }
+    for (int i = 0; i < survivors; ++i) {
+      const int k = order[i];
+      stack[top++] = {child_mask[k], node.child[k], node.leaf_size[k]};
+    }
+
+    // Pop until an internal node is found, processing leaves on the way.
+    bool descended = false;
+    while (top > 0) {
+      const detail::StackEntry<Bits>& entry = stack[--top];
+      const Mask<Bits> wanted = and_not(entry.mask, blocked);
+      if (wanted.none()) continue;  // blocked meanwhile
+      if (entry.leaf_size == 0) {
+        node_index = entry.child;
+        descended = true;
+        break;
+      }
+      std::uint64_t allowed = lut::occupied_clusters(wanted);
+      for (std::uint32_t t = entry.child; t < entry.child + entry.leaf_size; ++t) {
+        const Mask<Bits> m = triangle_mask<Bits>(ctx, bvh.triangles, t, frame, allowed, counters);
+        if constexpr (Stats) {
+          ++stats->triangles_tested;
+          if (popcount_and_not(m, blocked) > 0) ++stats->triangles_blocking;
+        }
+        if (m.none()) continue;
+        blocked |= m;
+        allowed &= lut::open_clusters(blocked, n_rays);
+        if (!allowed) break;
+      }
+      if (blocked == all) return blocked;
+    }
+    if (!descended) return blocked;
+  }
+}

@@ -1,0 +1,301 @@
+// exao compare: the screen-space AO methods of the seeds (ssao/) against exao's exact AO on the
+// same G-buffer pixels: error statistics, times, pictures, JSON and a Markdown table; with
+// --stereo, each method's inconsistency between the eyes (seed 003). A thin layer: the methods
+// and the measurements are in ssao/, the exact AO is the bvh method of the library engine (engine/).
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <string_view>
+#include <utility>
+
+#include <nlohmann/json.hpp>
+#include <tbb/global_control.h>
+
+#include "cli/commands.h"
+#include "cli/option_flags.h"
+#include "cli/common_options.h"
+#include "cli/progress_bar.h"
+#include "core/atomic_write.h"
+#include "core/image_io.h"
+#include "engine/engine.h"
+#include "ssao/compare.h"
+#include "ssao/contact_sheet.h"
+#include "ssao/error_stats.h"
+#include "ssao/stereo.h"
+
+namespace exao::cli {
+namespace {
+
+struct CompareCommandOptions {
+  SceneOptions scene;
+  RayOptions rays;
+  CameraOptions camera;
+  std::string masks = "lut";
+  std::string methods = "hbao,hbao+,vao,sdao,svao,rtsvao,abuffer";
+  std::string output = "compare";
+  int directions = 8;
+  int steps = 4;
+  double bias = 0.1;
+  bool cosine = false;
+  double thickness = 0.5;
+  int sd_samples = 4;
+  double sd_alpha = 0.2;
+  int blur = 4;
+  std::optional<double> stereo;
+  std::string key = "pixel";
+  double key_cell = 0.25;
+};
+
+Result<void> write_text(const std::string& text, const std::string& path) {
+  return write_atomically(path, [&](const std::string& temp) -> Result<void> {
+    std::ofstream out(temp, std::ios::binary);
+    out << text;
+    out.close();
+    if (!out) return fail(path + ": cannot write");
+    return {};
+  });
+}
+
+// The library names its options; the command's users know them by their flags.
+Error as_flag_error(const Error& error) {
+  static constexpr std::pair<const char*, const char*> kFlags[] = {
+      {"methods:", "--methods:"},         {"directions:", "--directions:"}, {"steps:", "--steps:"},
+      {"bias:", "--bias:"},               {"thickness:", "--thickness:"},   {"blur:", "--blur:"},
+      {"stochastic depth samples:", "--sd-samples:"}, {"stochastic depth alpha:", "--sd-alpha:"},
+      {"key cell:", "--key-cell:"},       {"radius:", "--radius:"},
+  };
+  for (const auto& [name, flag] : kFlags) {
+    if (error.message.starts_with(name)) return Error{flag + error.message.substr(std::string_view(name).size())};
+  }
+  return error;
+}
+
+std::string slug(const std::string& name) {
+  std::string out;
+  for (const char c : name) out += c == '+' ? std::string("-plus") : std::string(1, c);
+  return out;
+}
+
+AoImage ao_image(const ssao::View& view, const std::vector<float>& ao) {
+  AoImage image;
+  image.width = view.width;
+  image.height = view.height;
+  image.ao = ao;
+  image.coverage.resize(ao.size());
+  for (std::size_t p = 0; p < ao.size(); ++p) image.coverage[p] = view.valid[p] ? 1.0f : 0.0f;
+  return image;
+}
+
+Result<void> write_ao(const ssao::View& view, const std::vector<float>& ao, const std::filesystem::path& base) {
+  const AoImage image = ao_image(view, ao);
+  if (auto ok = write_exr(image, base.string() + ".exr"); !ok) return ok;
+  return write_png(image, base.string() + ".png");
+}
+
+Result<void> write_rgb(const ssao::RgbImage& image, const std::string& path) {
+  return write_png_bytes(image.rgb, image.width, image.height, 3, path);
+}
+
+std::string percent(double share) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1f%%", 100.0 * share);
+  return text;
+}
+
+std::string fixed(double v, int digits) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.*f", digits, v);
+  return text;
+}
+
+int run_compare(const CompareCommandOptions& o) {
+  Result<std::vector<ssao::Method>> methods = ssao::parse_methods(o.methods);
+  if (!methods) return report(as_flag_error(methods.error()));
+  if (o.stereo && !(std::isfinite(*o.stereo) && *o.stereo > 0.0)) return report(Error{"--stereo: the eye distance must be greater than 0"});
+  if (o.key != "pixel" && o.key != "world") return report(Error{"--key: must be pixel or world, got '" + o.key + "'"});
+  if (!(std::isfinite(o.key_cell) && o.key_cell > 0.0)) return report(Error{"--key-cell: must be greater than 0"});
+  if (auto ok = check_output(o.output, o.scene.scene); !ok) return report(ok.error());
+  MethodOptions method_options;
+  method_options.method = engine::method_name(engine::Method::Bvh);
+  method_options.masks = o.masks;
+  Result<engine::Options> engine_options = make_options(o.scene, o.rays, method_options);
+  if (!engine_options) return report(engine_options.error());
+  // The screen-space methods run on TBB outside the engine's arena: the same thread limit.
+  std::optional<tbb::global_control> threads;
+  if (engine_options->threads > 0) {
+    threads.emplace(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(engine_options->threads));
+  }
+
+  Result<Scene> scene = open_scene(o.scene);
+  if (!scene) return report(scene.error());
+  // The G-buffer sees the sidedness the exact AO uses.
+  apply_sidedness(*scene, engine_options->sidedness);
+  Result<engine::Engine> engine = engine::Engine::build(*scene, *engine_options, engine::Receivers::Points);
+  if (!engine) return report(engine.error());
+  const ShadowRays* rays = &engine->rays();
+  Result<Camera> camera = choose_camera(o.camera, *scene);
+  if (!camera) return report(camera.error());
+  Result<int> height = image_height(o.camera, *camera);
+  if (!height) return report(height.error());
+
+  ssao::CompareOptions options;
+  options.methods = *methods;
+  options.settings.radius = rays->radius;
+  options.settings.falloff = rays->pattern.falloff;
+  options.settings.blur_radius = o.blur;
+  options.hbao.directions = options.hbao_plus.directions = o.directions;
+  options.hbao.steps = options.hbao_plus.steps = o.steps;
+  options.hbao.bias = options.hbao_plus.bias = o.bias;
+  options.hbao.cosine = o.cosine;
+  options.vao.thickness = o.thickness;
+  options.stochastic.samples = o.sd_samples;
+  options.stochastic.alpha = o.sd_alpha;
+  if (o.key == "world") options.world_key_cell = static_cast<float>(o.key_cell * rays->radius);
+  if (auto ok = ssao::check(options); !ok) return report(as_flag_error(ok.error()));
+
+  std::error_code ec;
+  std::filesystem::create_directories(o.output, ec);
+  if (ec || !std::filesystem::is_directory(o.output)) return report(Error{o.output + ": cannot create the output folder"});
+
+  std::optional<Error> exact_error;
+  const ssao::ExactAo exact = [&](std::span<const Receiver> receivers) {
+    ProgressBar bar("exact AO");
+    engine::RunOptions run;
+    run.progress = bar.callback();
+    Result<std::vector<float>> ao = engine->ao(receivers, run);
+    if (ao) return std::move(*ao);
+    if (!exact_error) exact_error = ao.error();
+    return std::vector<float>(receivers.size(), 1.0f);
+  };
+
+  std::vector<Camera> cameras = {*camera};
+  if (o.stereo) {
+    const auto [left, right] = ssao::stereo_cameras(*camera, *o.stereo);
+    cameras = {left, right};
+  }
+  std::vector<ssao::ViewResult> views;
+  for (const Camera& c : cameras) views.push_back(ssao::compare_view(*scene, c, o.camera.width, *height, options, exact));
+  if (exact_error) return report(*exact_error);
+  const ssao::ViewResult& main = views.front();
+  std::optional<ssao::Correspondence> pairs;
+  if (o.stereo) pairs = ssao::correspond(views[0].view, views[1].view);
+
+  // Pictures: AO, heat maps, the contact sheet.
+  const std::filesystem::path dir(o.output);
+  if (auto ok = write_ao(main.view, main.exact, dir / "exact"); !ok) return report(ok.error());
+  std::vector<ssao::RgbImage> greys, heats;
+  greys.reserve(main.methods.size() + 1);
+  heats.reserve(main.methods.size());
+  greys.push_back(ssao::grey_image(main.exact, main.view.valid, main.view.width, main.view.height));
+  std::vector<ssao::ErrorStats> stats;
+  for (const ssao::MethodResult& m : main.methods) {
+    const std::string name = slug(ssao::method_name(m.method));
+    if (auto ok = write_ao(main.view, m.ao, dir / name); !ok) return report(ok.error());
+    heats.push_back(ssao::heat_map(m.ao, main.exact, main.view.valid, main.view.width, main.view.height));
+    if (auto ok = write_rgb(heats.back(), (dir / (name + "-error.png")).string()); !ok) return report(ok.error());
+    greys.push_back(ssao::grey_image(m.ao, main.view.valid, main.view.width, main.view.height));
+    stats.push_back(ssao::error_stats(m.ao, main.exact, main.view.valid));
+  }
+  std::vector<ssao::SheetCell> cells;
+  const ssao::RgbImage legend = ssao::heat_map_legend(main.view.width, main.view.height);
+  cells.push_back({"EXACT N=" + std::to_string(rays->count()), &greys[0], &legend});
+  for (std::size_t i = 0; i < main.methods.size(); ++i) {
+    cells.push_back({std::string(ssao::method_label(main.methods[i].method)) + " MAE " + fixed(stats[i].mean_abs, 3), &greys[i + 1], &heats[i]});
+  }
+  if (auto ok = write_rgb(ssao::contact_sheet(cells, 4, 320), (dir / "contact-sheet.png").string()); !ok) return report(ok.error());
+
+  // The table and the JSON.
+  nlohmann::json j;
+  j["scene"] = o.scene.scene;
+  j["width"] = main.view.width;
+  j["height"] = main.view.height;
+  j["pixels"] = main.view.receivers.receivers.size();
+  j["radius"] = rays->radius;
+  j["falloff"] = falloff_name(rays->pattern.falloff);
+  j["samples"] = rays->count();
+  j["key"] = o.key;
+  j["parameters"] = {{"directions", o.directions}, {"steps", o.steps}, {"bias", o.bias}, {"cosine", o.cosine},
+                     {"thickness", o.thickness}, {"sd_samples", o.sd_samples}, {"sd_alpha", o.sd_alpha}, {"blur", o.blur}};
+  j["gbuffer_seconds"] = main.gbuffer_seconds;
+  j["abuffer_seconds"] = main.fragment_seconds;
+  j["exact"] = {{"seconds", main.exact_seconds}};
+  std::ostringstream md;
+  md << "| method | mean abs error | bias | RMSE | within 1/255 | within 1/16 | time (s) |" << (o.stereo ? " stereo E |" : "") << "\n";
+  md << "|---|---|---|---|---|---|---|" << (o.stereo ? "---|" : "") << "\n";
+  const auto stereo_of = [&](std::size_t k) -> std::optional<ssao::Inconsistency> {
+    if (!pairs) return std::nullopt;
+    if (k == 0) return ssao::inconsistency(*pairs, views[0].exact, views[1].exact);
+    return ssao::inconsistency(*pairs, views[0].methods[k - 1].ao, views[1].methods[k - 1].ao);
+  };
+  const auto stereo_json = [](const ssao::Inconsistency& e) {
+    return nlohmann::json{{"mean", e.mean}, {"rmse", e.rmse}, {"within_255", e.within_255}, {"pixels", e.pixels}, {"share", e.share}};
+  };
+  if (const auto e = stereo_of(0)) j["exact"]["stereo"] = stereo_json(*e);
+  md << "| exact (bvh, N = " << rays->count() << ") | 0 | 0 | 0 | 100% | 100% | " << fixed(main.exact_seconds, 3) << " |"
+     << (pairs ? " " + fixed(stereo_of(0)->mean, 4) + " |" : "") << "\n";
+  j["methods"] = nlohmann::json::array();
+  for (std::size_t i = 0; i < main.methods.size(); ++i) {
+    const ssao::MethodResult& m = main.methods[i];
+    const ssao::ErrorStats& s = stats[i];
+    nlohmann::json row{{"name", ssao::method_name(m.method)}, {"label", ssao::method_label(m.method)},
+                       {"mean_abs", s.mean_abs}, {"bias", s.bias}, {"rmse", s.rmse}, {"within_255", s.within_255},
+                       {"within_16", s.within_16}, {"seconds", m.seconds}};
+    if (m.method == ssao::Method::SdSvao || m.method == ssao::Method::RtSvao) row["flagged_pixels"] = m.flagged;
+    const auto e = stereo_of(i + 1);
+    if (e) row["stereo"] = stereo_json(*e);
+    j["methods"].push_back(row);
+    md << "| " << ssao::method_label(m.method) << " | " << fixed(s.mean_abs, 4) << " | " << (s.bias >= 0 ? "+" : "") << fixed(s.bias, 4)
+       << " | " << fixed(s.rmse, 4) << " | " << percent(s.within_255) << " | " << percent(s.within_16) << " | " << fixed(m.seconds, 3) << " |"
+       << (e ? " " + fixed(e->mean, 4) + " |" : "") << "\n";
+  }
+  if (pairs) j["stereo"] = {{"ipd", *o.stereo}, {"pixels_compared", pairs->left.size()}, {"left_pixels", pairs->left_visible}};
+  if (auto ok = write_text(j.dump(2) + "\n", (dir / "compare.json").string()); !ok) return report(ok.error());
+  if (auto ok = write_text(md.str(), (dir / "compare.md").string()); !ok) return report(ok.error());
+
+  std::printf("%s: %zu triangles, %dx%d, %zu pixels, r=%g, N=%d, G-buffer %.3f s, A-buffer %.3f s -> %s/\n",
+              o.scene.scene.c_str(), scene->triangle_count(), main.view.width, main.view.height,
+              main.view.receivers.receivers.size(), static_cast<double>(rays->radius), rays->count(), main.gbuffer_seconds,
+              main.fragment_seconds, o.output.c_str());
+  std::printf("%s", md.str().c_str());
+  if (pairs) {
+    std::printf("stereo: IPD %g, %zu of %zu left pixels seen by both eyes; E = mean |AO_left - AO_right reprojected|, key %s\n",
+                *o.stereo, pairs->left.size(), pairs->left_visible, o.key.c_str());
+  }
+  return 0;
+}
+
+}  // namespace
+
+Command add_compare_command(CLI::App& app) {
+  auto o = std::make_shared<CompareCommandOptions>();
+  o->rays.samples = 1024;
+  o->camera.width = 480;  // with N = 1024 exact AO of the room stays well under a minute on 2 cores
+  CLI::App* command = app.add_subcommand("compare", "Screen-space AO methods against the exact AO on the same G-buffer");
+  add_scene_options(*command, o->scene);
+  add_ray_options(*command, o->rays);
+  add_camera_options(*command, o->camera);
+  command->add_option("--masks", o->masks, "Exact AO's plane masks: lut or exact")->capture_default_str();
+  command->add_option("--methods", o->methods, "Comma-separated: hbao, hbao+, vao, sdao (stochastic-depth HBAO), svao (SD-SVAO), rtsvao (RT-SVAO), abuffer")
+      ->capture_default_str();
+  command->add_option("-o,--output", o->output, "Output folder")->capture_default_str();
+  command->add_option("--directions", o->directions, "HBAO/HBAO+ directions per pixel")->capture_default_str();
+  command->add_option("--steps", o->steps, "HBAO/HBAO+ steps per direction")->capture_default_str();
+  command->add_option("--bias", o->bias, "HBAO starting horizon (sine) and HBAO+ NdotV bias")->capture_default_str();
+  command->add_flag("--cosine", o->cosine, "HBAO family: cosine-weighted horizons (sin^2) instead of the papers' sin");
+  command->add_option("--thickness", o->thickness, "VAO thickness tau of the halo model, 0 to 1")->capture_default_str();
+  command->add_option("--sd-samples", o->sd_samples, "Stochastic depth samples per pixel S, 1 to 16")->capture_default_str();
+  command->add_option("--sd-alpha", o->sd_alpha, "Stochastic depth keep probability alpha, (0, 1]")->capture_default_str();
+  command->add_option("--blur", o->blur, "Bilateral blur radius in pixels (0: none)")->capture_default_str();
+  command->add_option("--stereo", o->stereo, "Render left and right eyes this far apart (world units) and report inconsistency");
+  command->add_option("--key", o->key, "Exact AO receiver keys: pixel (exao render's) or world (hash of the quantised position)")
+      ->capture_default_str();
+  command->add_option("--key-cell", o->key_cell, "World keys: grid cell as a fraction of the radius")->capture_default_str();
+  return [o, command]() { return command->parsed() ? run_compare(*o) : -1; };
+}
+
+}  // namespace exao::cli

@@ -1,0 +1,23 @@
+#pragma once
+// exao::ssao::abuffer_ao: A-buffer AO (Bauer, Knuth, Kuijper, Bender 2013; seed 004) in its
+// horizon-based form (their Sec. V-B: HBAO over the fragment lists). Receivers are the first
+// layer; at every step all fragments of the sampled pixel are examined and the one that would
+// occlude most is kept (their Alg. 1, max over the list), its gain weighted by its material's
+// opacity (their Eq. 1, alpha_omega: glTF BLEND alpha, MASK by its cutoff; core/scene.h). A
+// semi-transparent occluder still raises the horizon: HBAO has one horizon per direction, so a
+// later occluder behind it gains only above it. Receivers are treated as opaque (their opaque
+// mode: "the shadowing factor is only computed for the first layer").
+
+#include <vector>
+
+#include "core/scene.h"
+#include "ssao/fragment_buffer.h"
+#include "ssao/horizon_march.h"
+
+namespace exao::ssao {
+
+/// AO per pixel, before any blur. `fragments` must be the view's size and from `scene`.
+[[nodiscard]] std::vector<float> abuffer_ao(const View& view, const FragmentBuffer& fragments, const Scene& scene,
+                                            const Settings& settings, const HbaoOptions& options);
+
+}  // namespace exao::ssao

@@ -1,0 +1,40 @@
+#include "ssao/bilateral.h"
+
+#include <cmath>
+
+#include <tbb/parallel_for.h>
+
+namespace exao::ssao {
+
+void bilateral_blur(const View& view, double ao_radius, int radius, std::vector<float>& ao) {
+  if (radius <= 0) return;
+  const double sigma = 0.5 * (radius + 1);
+  const double inv_depth_scale = 4.0 / ao_radius;
+  constexpr float kNormalCos = 0.9f;
+  std::vector<float> temp(ao.size());
+  const auto pass = [&](const std::vector<float>& in, std::vector<float>& out, int dx, int dy) {
+    tbb::parallel_for(0, view.height, [&](int y) {
+      for (int x = 0; x < view.width; ++x) {
+        const std::size_t p = static_cast<std::size_t>(y) * static_cast<std::size_t>(view.width) + static_cast<std::size_t>(x);
+        out[p] = in[p];
+        if (!view.valid[p]) continue;
+        double sum = 0.0, weight = 0.0;
+        for (int k = -radius; k <= radius; ++k) {
+          const int xs = x + k * dx, ys = y + k * dy;
+          if (xs < 0 || ys < 0 || xs >= view.width || ys >= view.height) continue;
+          const std::size_t q = static_cast<std::size_t>(ys) * static_cast<std::size_t>(view.width) + static_cast<std::size_t>(xs);
+          if (!view.valid[q] || glm::dot(view.normal[p], view.normal[q]) < kNormalCos) continue;
+          const double dz = (static_cast<double>(view.depth[q]) - view.depth[p]) * inv_depth_scale;
+          const double w = std::exp(-k * k / (2.0 * sigma * sigma) - dz * dz);
+          sum += w * in[q];
+          weight += w;
+        }
+        out[p] = static_cast<float>(sum / weight);
+      }
+    });
+  };
+  pass(ao, temp, 1, 0);
+  pass(temp, ao, 0, 1);
+}
+
+}  // namespace exao::ssao

@@ -1,0 +1,98 @@
+#include "ssao/vao.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include <tbb/parallel_for.h>
+
+namespace exao::ssao {
+namespace {
+
+constexpr double kPsi[kVaoSamples] = {1.0 / 16, 9.0 / 16, 5.0 / 16, 13.0 / 16, 3.0 / 16, 11.0 / 16, 7.0 / 16, 15.0 / 16};
+
+}  // namespace
+
+Result<void> check(const VaoOptions& options) {
+  if (!(options.thickness >= 0.0 && options.thickness <= 1.0)) {
+    return fail("thickness: must be in [0, 1], got " + std::to_string(options.thickness));
+  }
+  return {};
+}
+
+double column_z(const View& view, const Settings& settings, std::size_t p, const glm::dvec3& point) {
+  const glm::dvec3 P(view.position[p]);
+  const glm::dvec3 e = glm::normalize(view.eye - P);
+  return glm::dot(point - P, e) / settings.radius;
+}
+
+VaoSample vao_sample(const View& view, const Settings& settings, std::size_t p, int i) {
+  VaoSample s;
+  const glm::dvec3 P(view.position[p]);
+  const glm::dvec3 n(view.normal[p]);
+  const glm::dvec3 e = glm::normalize(view.eye - P);
+  // A basis of the disc facing the eye (Duff et al. 2017).
+  const double sign = std::copysign(1.0, e.z);
+  const double a = -1.0 / (sign + e.z), b = e.x * e.y * a;
+  const glm::dvec3 u(1.0 + sign * e.x * e.x * a, sign * b, -sign * e.x);
+  const glm::dvec3 v(b, sign + e.y * e.y * a, -e.y);
+  const double angle = 2.0 * std::numbers::pi * (i + block_jitter(p, view.width, 2)) / kVaoSamples;
+  const double rho = std::sqrt(1.0 - std::pow(kPsi[i], 2.0 / 3.0));
+  const glm::dvec3 offset = settings.radius * rho * (std::cos(angle) * u + std::sin(angle) * v);
+  s.height = 2.0 * std::sqrt(1.0 - rho * rho);
+  const double facing = glm::dot(e, n);
+  if (!(facing > 1e-6)) return s;
+  const double z_plane = -glm::dot(offset, n) / (settings.radius * facing);
+  s.z_lo = std::max(-0.5 * s.height, z_plane);
+  s.z_hi = 0.5 * s.height;
+  s.valid = s.z_lo < s.z_hi;
+  s.pixel = view.pixel_at(view.project(P + offset));
+  return s;
+}
+
+double unoccupied(const VaoSample& s, double z, double thickness) {
+  const double length = s.z_hi - s.z_lo;
+  if (z <= s.z_lo) return length;
+  if (z <= s.z_hi) return s.z_hi - z;
+  const double front = 1.0 + thickness;  // end of the constant area
+  if (z <= front) return 0.0;
+  return std::min(z - front, length);
+}
+
+VaoResult vao(const View& view, const Settings& settings, const VaoOptions& options) {
+  VaoResult out;
+  const std::size_t n = view.pixel_count();
+  out.ao.assign(n, 1.0f);
+  out.unflagged.assign(n, 1.0f);
+  out.flags.assign(n, 0);
+  out.stencil.assign(n, 0);
+  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t p) {
+    if (!view.valid[p]) return;
+    double all = 0.0, unflagged = 0.0;
+    std::uint8_t flags = 0;
+    for (int i = 0; i < kVaoSamples; ++i) {
+      const VaoSample s = vao_sample(view, settings, p, i);
+      if (!s.valid) continue;
+      double u = s.z_hi - s.z_lo;  // off screen or background: nothing in the column
+      if (s.pixel >= 0 && view.valid[static_cast<std::size_t>(s.pixel)]) {
+        const double z = column_z(view, settings, p, glm::dvec3(view.position[static_cast<std::size_t>(s.pixel)]));
+        u = unoccupied(s, z, options.thickness);
+        if (z > 1.0 + options.thickness) {
+          flags = static_cast<std::uint8_t>(flags | (1u << i));
+          // Several pixels may mark the same one, from different threads.
+          std::atomic_ref<std::uint8_t>(out.stencil[static_cast<std::size_t>(s.pixel)]).store(1, std::memory_order_relaxed);
+        }
+      }
+      all += u / s.height;
+      if (!(flags & (1u << i))) unflagged += u / s.height;
+    }
+    out.ao[p] = static_cast<float>(2.0 * all / kVaoSamples);
+    out.unflagged[p] = static_cast<float>(2.0 * unflagged / kVaoSamples);
+    out.flags[p] = flags;
+  });
+  return out;
+}
+
+}  // namespace exao::ssao

@@ -1,0 +1,61 @@
+#pragma once
+// exao::ssao::vao: volumetric AO as seed 001 builds it on Loos & Sloan's volumetric obscurance
+// (2010). Eight line samples on a disc of radius r facing the eye, angles 2 pi i / 8 + xi (xi per
+// pixel of a 4 x 4 block), radii sqrt(1 - psi_i^(2/3)) for the base-2 van der Corput numbers
+// psi = 1/16, 9/16, ... 15/16 (their Eq. 4-5). Each line crosses the unit ball over a column of
+// height h = 2 sqrt(1 - rho^2); only the part above the tangent plane counts (hemisphere
+// sampling), AO = 2/8 sum u_i / h_i with u_i the unoccupied length in front of the depth sample
+// (Eq. 6-7, doubled because half the ball is ignored). Their halo model (Sec. 3.3, Fig. 4, Eq. 8):
+// a surface in front of the column up to 1 + tau counts as occluding (the constant area), then
+// fades linearly back to open over the column's own length (the falloff area); a sample whose
+// surface lies in front of the constant area is "occluded" and flagged for the second phase of
+// the stenciled variants (ssao/svao.h). Distances along the column are in units of r. No
+// distance weight: the ball is VAO's falloff, whatever exao's falloff is.
+
+#include <cstdint>
+#include <vector>
+
+#include "core/error.h"
+#include "ssao/settings.h"
+#include "ssao/view.h"
+
+namespace exao::ssao {
+
+struct VaoOptions {
+  double thickness = 0.5;  // tau, [0, 1]: seed 001 sets it per scene in [0, 1]; the middle
+};
+
+[[nodiscard]] Result<void> check(const VaoOptions& options);
+
+inline constexpr int kVaoSamples = 8;
+
+/// One line sample of one pixel: where it reads the depth and how its column is cut.
+struct VaoSample {
+  bool valid = false;        // part of the column lies above the tangent plane
+  std::int64_t pixel = -1;   // the pixel under the sample point, -1 off screen
+  double z_lo = 0.0, z_hi = 0.0, height = 1.0;  // hemisphere part [z_lo, z_hi] of the column, full height h
+};
+
+/// Sample i (0 .. 7) of pixel p, a valid pixel of the view.
+[[nodiscard]] VaoSample vao_sample(const View& view, const Settings& settings, std::size_t p, int i);
+
+/// Unoccupied length of a sample's column when the surface along it is at z (units of r,
+/// toward the eye, 0 at the receiver), after the halo model.
+[[nodiscard]] double unoccupied(const VaoSample& sample, double z, double thickness);
+
+/// z of a world point on the sample's column: (D - P) . e / r.
+[[nodiscard]] double column_z(const View& view, const Settings& settings, std::size_t p, const glm::dvec3& point);
+
+struct VaoResult {
+  // VAO (flagged samples after the halo model), before any blur and not clamped: an open surface
+  // seen at an angle gets 2/8 x (samples above its plane), 0.75 or 1.25 as often as 1 over a 4 x 4
+  // block, and the blur, not a clamp, is what averages that to 1 (compare_view clamps after it).
+  std::vector<float> ao;
+  std::vector<float> unflagged;        // 2/8 sum over unflagged samples only: seed 001's phase 1
+  std::vector<std::uint8_t> flags;     // bit i: sample i's surface lies in front of the constant area
+  std::vector<std::uint8_t> stencil;   // the stochastic depth mask: pixels a flagged sample reads
+};
+
+[[nodiscard]] VaoResult vao(const View& view, const Settings& settings, const VaoOptions& options);
+
+}  // namespace exao::ssao

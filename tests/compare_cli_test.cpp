@@ -1,0 +1,89 @@
+// `exao compare` end to end: every output appears, the table names every method, and bad options
+// get one line naming the option and a non-zero exit.
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <sys/wait.h>
+
+#include <nlohmann/json.hpp>
+
+#include "tests/test_support.h"
+
+namespace exao {
+namespace {
+
+struct CommandResult {
+  int status;
+  std::string output;  // stdout and stderr together
+};
+
+CommandResult exao(const std::string& arguments) {
+  const std::string command = std::string(EXAO_BINARY) + " " + arguments + " 2>&1";
+  FILE* pipe = ::popen(command.c_str(), "r");
+  std::string output;
+  std::array<char, 4096> buffer{};
+  while (pipe && std::fgets(buffer.data(), buffer.size(), pipe)) output += buffer.data();
+  const int status = pipe ? ::pclose(pipe) : -1;
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
+}
+
+void expect_one_line_error(const CommandResult& run, const std::string& names) {
+  EXPECT_NE(run.status, 0) << run.output;
+  EXPECT_EQ(std::count(run.output.begin(), run.output.end(), '\n'), 1) << run.output;
+  EXPECT_NE(run.output.find(names), std::string::npos) << run.output;
+}
+
+TEST(CompareCli, WritesImagesHeatMapsSheetJsonAndTable) {
+  test::TempDir dir;
+  const std::string out = (dir / "cmp").string();
+  const CommandResult run = exao("compare hidden-box -W 64 -H 48 -n 64 --stereo 0.05 --key world -o " + out);
+  ASSERT_EQ(run.status, 0) << run.output;
+  for (const char* name : {"exact", "hbao", "hbao-plus", "vao", "sdao", "svao", "rtsvao", "abuffer"}) {
+    EXPECT_TRUE(std::filesystem::exists(dir / "cmp" / (std::string(name) + ".exr"))) << name;
+    EXPECT_TRUE(std::filesystem::exists(dir / "cmp" / (std::string(name) + ".png"))) << name;
+    if (std::string(name) != "exact") {
+      EXPECT_TRUE(std::filesystem::exists(dir / "cmp" / (std::string(name) + "-error.png"))) << name;
+    }
+  }
+  EXPECT_TRUE(std::filesystem::exists(dir / "cmp" / "contact-sheet.png"));
+  std::ifstream json_file(dir / "cmp" / "compare.json");
+  const nlohmann::json j = nlohmann::json::parse(json_file);
+  ASSERT_EQ(j["methods"].size(), 7u);
+  for (const auto& m : j["methods"]) {
+    EXPECT_GE(m["mean_abs"].get<double>(), 0.0);
+    EXPECT_LE(m["within_255"].get<double>(), m["within_16"].get<double>());
+    EXPECT_TRUE(m.contains("stereo"));
+  }
+  EXPECT_TRUE(j["exact"].contains("stereo"));
+  std::ifstream md_file(dir / "cmp" / "compare.md");
+  std::stringstream md;
+  md << md_file.rdbuf();
+  for (const char* label : {"HBAO", "HBAO+", "VAO", "SD-HBAO", "SD-SVAO", "RT-SVAO", "A-BUFFER", "stereo E"}) {
+    EXPECT_NE(md.str().find(label), std::string::npos) << label;
+  }
+}
+
+TEST(CompareCli, BadOptionsGetOneLine) {
+  test::TempDir dir;
+  const std::string out = " -W 32 -H 24 -n 32 -o " + (dir / "cmp").string();
+  expect_one_line_error(exao("compare --methods hbao,foo" + out), "--methods");
+  expect_one_line_error(exao("compare --methods hbao,hbao" + out), "twice");
+  expect_one_line_error(exao("compare --sd-samples 0" + out), "--sd-samples");
+  expect_one_line_error(exao("compare --sd-alpha 1.5" + out), "--sd-alpha");
+  expect_one_line_error(exao("compare --thickness 3" + out), "--thickness");
+  expect_one_line_error(exao("compare --directions 0" + out), "--directions");
+  expect_one_line_error(exao("compare --blur -2" + out), "--blur");
+  expect_one_line_error(exao("compare --key-cell 0" + out), "--key-cell");
+  expect_one_line_error(exao("compare --stereo -1" + out), "--stereo");
+  expect_one_line_error(exao("compare --key hash" + out), "--key");
+  expect_one_line_error(exao("compare -r 0" + out), "--radius");
+  expect_one_line_error(exao("compare no-such-scene.glb" + out), "no-such-scene.glb");
+}
+
+}  // namespace
+}  // namespace exao

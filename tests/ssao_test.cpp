@@ -1,0 +1,437 @@
+// The screen-space methods of ssao/ on scenes with a known answer or known bounds, the hidden
+// occluder of seed 000's Fig. 1-2 (single-layer methods miss it, multi-layer ones see part of
+// it, exact AO sees all of it), the stochastic depth map's statistics, A-buffer opacity, and the
+// stereo metric of seed 003 with exact AO's world-space keys.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <numeric>
+
+#include "bvh/bvh.h"
+#include "bvh/occlusion.h"
+#include "core/builtin_scenes.h"
+#include "core/load_scene.h"
+#include "core/world_key.h"
+#include "lut/mask_engine.h"
+#include "ssao/abuffer_ao.h"
+#include "ssao/compare.h"
+#include "ssao/fragment_buffer.h"
+#include "ssao/hbao.h"
+#include "ssao/hbao_plus.h"
+#include "ssao/sd_hbao.h"
+#include "ssao/stereo.h"
+#include "ssao/stochastic_depth.h"
+#include "ssao/svao.h"
+#include "ssao/vao.h"
+#include "tests/test_support.h"
+
+namespace exao::ssao {
+namespace {
+
+// Exact AO by the bvh backend, as `exao compare` computes it.
+struct Exact {
+  Scene scene;
+  ShadowRays rays;
+  lut::TriangleSet triangles;
+  std::optional<bvh::Bvh> tree;
+  std::optional<lut::MaskEngine> engine;
+
+  Exact(Scene s, float radius, int samples) : scene(std::move(s)), triangles(lut::TriangleSet::build(scene)) {
+    rays = *make_shadow_rays(*make_sample_pattern(samples, Falloff::Constant), radius, 1e-4f * scene.bounds().diagonal());
+    tree.emplace(std::move(*bvh::Bvh::build(triangles)));
+    engine.emplace(std::move(*lut::MaskEngine::build(rays, lut::MaskMode::Exact)));
+  }
+  [[nodiscard]] std::vector<float> operator()(std::span<const Receiver> receivers) const {
+    const MaskSet masks = bvh::occlusion(*tree, *engine, receivers);
+    std::vector<float> ao(receivers.size());
+    for (std::size_t i = 0; i < ao.size(); ++i) ao[i] = masks.ao(i);
+    return ao;
+  }
+};
+
+CompareOptions options_for(float radius) {
+  CompareOptions o;
+  o.settings.radius = radius;
+  o.settings.blur_radius = 0;  // per-pixel values, so the tests see each estimator itself
+  return o;
+}
+
+const MethodResult& result(const ViewResult& r, Method m) {
+  for (const MethodResult& x : r.methods) {
+    if (x.method == m) return x;
+  }
+  throw std::logic_error("method not run");
+}
+
+// Mean of a per-pixel image over the chosen pixels.
+double mean_over(const std::vector<float>& ao, const std::vector<std::uint32_t>& pixels) {
+  double sum = 0.0;
+  for (const std::uint32_t p : pixels) sum += ao[p];
+  return sum / static_cast<double>(pixels.size());
+}
+
+Scene floor_only() {
+  Scene s = make_hidden_box(false, false);
+  s.name = "floor";
+  return s;
+}
+
+TEST(Ssao, OpenFloorIsOpenForEveryMethod) {
+  const Exact exact(floor_only(), 1.0f, 128);
+  const ViewResult r = compare_view(exact.scene, exact.scene.cameras[0], 96, 72, options_for(1.0f), std::cref(exact));
+  std::size_t seen = 0;
+  for (std::size_t p = 0; p < r.view.pixel_count(); ++p) {
+    if (!r.view.valid[p]) continue;
+    ++seen;
+    EXPECT_FLOAT_EQ(r.exact[p], 1.0f);
+    // A plane below the bias holds no horizon and no HBAO+ sample above it.
+    for (const Method m : {Method::Hbao, Method::HbaoPlus, Method::SdHbao, Method::Abuffer}) EXPECT_EQ(result(r, m).ao[p], 1.0f) << method_name(m);
+    for (const MethodResult& m : r.methods) {
+      EXPECT_GE(m.ao[p], 0.0f);
+      EXPECT_LE(m.ao[p], 1.0f);
+    }
+  }
+  ASSERT_GT(seen, 1000u);
+  // VAO's eight line samples estimate the half ball's volume: unbiased, not exact, on a tilted plane.
+  for (const Method m : {Method::Vao, Method::SdSvao}) {
+    std::vector<std::uint32_t> all;
+    for (std::size_t p = 0; p < r.view.pixel_count(); ++p) {
+      if (r.view.valid[p]) all.push_back(static_cast<std::uint32_t>(p));
+    }
+    EXPECT_NEAR(mean_over(result(r, m).ao, all), 1.0, 0.08) << method_name(m);
+  }
+}
+
+// A floor point at the foot of a wall that reaches beyond r: the wall blocks half the hemisphere
+// (AO = 1/2 with cosine weighting, and half the ball's volume for VAO); a point farther than r
+// from it is open.
+TEST(Ssao, FootOfAWallIsHalfOccludedAndFarFloorIsOpen) {
+  Scene scene = make_hidden_box(false, false);
+  // A 12 x 4 wall in the plane z = -1, facing +Z, as two triangles.
+  scene.add_triangle({-6.0f, 0.0f, -1.0f}, {6.0f, 0.0f, -1.0f}, {6.0f, 4.0f, -1.0f}, false, 0);
+  scene.add_triangle({-6.0f, 0.0f, -1.0f}, {6.0f, 4.0f, -1.0f}, {-6.0f, 4.0f, -1.0f}, false, 0);
+  const float radius = 1.0f;
+  const Exact exact(std::move(scene), radius, 256);
+  const ViewResult r = compare_view(exact.scene, exact.scene.cameras[0], 160, 120, options_for(radius), std::cref(exact));
+  std::vector<std::uint32_t> foot, far;
+  for (std::size_t p = 0; p < r.view.pixel_count(); ++p) {
+    if (!r.view.valid[p] || std::abs(r.view.normal[p].y) < 0.99f) continue;  // floor pixels
+    const glm::vec3 x = r.view.position[p];
+    if (std::abs(x.x) > 2.0f) continue;
+    if (x.z > -0.98f && x.z < -0.93f) foot.push_back(static_cast<std::uint32_t>(p));
+    if (x.z > 0.2f && x.z < 1.0f) far.push_back(static_cast<std::uint32_t>(p));
+  }
+  ASSERT_GT(foot.size(), 10u);
+  ASSERT_GT(far.size(), 200u);
+  EXPECT_NEAR(mean_over(r.exact, foot), 0.5, 0.04);
+  for (const MethodResult& m : r.methods) {
+    // Sees the wall, but no method can block more than the wall's half of the hemisphere by much.
+    EXPECT_LT(mean_over(m.ao, foot), 0.8) << method_name(m.method);
+    EXPECT_GT(mean_over(m.ao, foot), 0.3) << method_name(m.method);
+    if (m.method != Method::Vao && m.method != Method::SdSvao && m.method != Method::RtSvao) {
+      for (const std::uint32_t p : far) ASSERT_EQ(m.ao[p], 1.0f) << method_name(m.method) << " pixel " << p;
+    }
+  }
+  for (const std::uint32_t p : far) ASSERT_EQ(r.exact[p], 1.0f);
+}
+
+// The floor pixels beside the hidden box: seen by the camera, within r of the box.
+std::vector<std::uint32_t> beside_box(const View& view) {
+  std::vector<std::uint32_t> out;
+  for (std::size_t p = 0; p < view.pixel_count(); ++p) {
+    const glm::vec3 x = view.position[p];
+    if (view.valid[p] && std::abs(view.normal[p].y) > 0.99f && x.y < 1e-3f && x.x > -0.5f && x.x < -0.05f && std::abs(x.z) < 0.45f) {
+      out.push_back(static_cast<std::uint32_t>(p));
+    }
+  }
+  return out;
+}
+
+// Occlusion the box adds beside it, per method: mean AO without the box minus mean AO with it.
+struct Gain {
+  std::map<Method, double> method;
+  double exact = 0.0;
+};
+
+Gain box_gain(bool wall, const CompareOptions& options, const std::function<void(Scene&)>& edit = {}, int samples = 128) {
+  Scene with = make_hidden_box(true, wall), without = make_hidden_box(false, wall);
+  if (edit) edit(with);
+  const Exact exact_with(std::move(with), 1.0f, samples), exact_without(std::move(without), 1.0f, samples);
+  const Camera camera = exact_with.scene.cameras[0];
+  const ViewResult a = compare_view(exact_with.scene, camera, 240, 180, options, std::cref(exact_with));
+  const ViewResult b = compare_view(exact_without.scene, camera, 240, 180, options, std::cref(exact_without));
+  const std::vector<std::uint32_t> pixels = beside_box(a.view);
+  EXPECT_GT(pixels.size(), 50u);
+  EXPECT_EQ(pixels, beside_box(b.view)) << "the box must not change which floor pixels are seen";
+  Gain g;
+  g.exact = mean_over(b.exact, pixels) - mean_over(a.exact, pixels);
+  for (std::size_t i = 0; i < a.methods.size(); ++i) {
+    g.method[a.methods[i].method] = mean_over(b.methods[i].ao, pixels) - mean_over(a.methods[i].ao, pixels);
+  }
+  return g;
+}
+
+TEST(Ssao, HiddenBoxSingleLayerMissesItStochasticSeesPartAbufferAndExactSeeAll) {
+  CompareOptions options = options_for(1.0f);
+  options.methods = {Method::Hbao, Method::HbaoPlus, Method::Vao, Method::SdHbao, Method::SdSvao, Method::Abuffer};
+  const Gain hidden = box_gain(true, options);
+  const Gain seen = box_gain(false, options);
+  // Without the wall every method sees the box.
+  for (const auto& [m, gain] : seen.method) EXPECT_GT(gain, 0.02) << method_name(m);
+  ASSERT_GT(seen.exact, 0.05);
+  // Behind it, the first depth layer is the same with and without the box: nothing changes.
+  EXPECT_EQ(hidden.method.at(Method::Hbao), 0.0);
+  EXPECT_EQ(hidden.method.at(Method::HbaoPlus), 0.0);
+  EXPECT_EQ(hidden.method.at(Method::Vao), 0.0);
+  // Share of the box's occlusion each method still sees behind the wall.
+  const auto share = [&](Method m) { return hidden.method.at(m) / seen.method.at(m); };
+  for (const auto& [m, gain] : hidden.method) {
+    std::printf("%-8s box occlusion seen %.4f, behind the wall %.4f (%.0f%%)\n", method_label(m), seen.method.at(m), gain, 100.0 * share(m));
+  }
+  std::printf("exact    box occlusion seen %.4f, behind the wall %.4f\n", seen.exact, hidden.exact);
+  EXPECT_GT(share(Method::SdHbao), 0.05);
+  EXPECT_LT(share(Method::SdHbao), 0.95);
+  EXPECT_GT(share(Method::SdSvao), 0.05);
+  EXPECT_LT(share(Method::SdSvao), 0.95);
+  // Every fragment within r is in the A-buffer, and the wall is beyond r: all of it.
+  EXPECT_NEAR(share(Method::Abuffer), 1.0, 1e-6);
+  EXPECT_GT(share(Method::Abuffer), share(Method::SdHbao));
+  // Rays: the wall is beyond r, so exact AO is the same with or without it.
+  EXPECT_NEAR(hidden.exact / seen.exact, 1.0, 1e-9);
+}
+
+TEST(Ssao, AbufferWeighsOccludersByOpacity) {
+  CompareOptions options = options_for(1.0f);
+  options.methods = {Method::Abuffer};
+  const Gain opaque = box_gain(true, options, {}, 32);
+  // The box's triangles are the last 6 x 16 (faces of 4 x 4 cells, two triangles each).
+  const auto box_material = [](float opacity) {
+    return [opacity](Scene& s) {
+      for (std::size_t t = s.triangle_count() - 6 * 4 * 4 * 2; t < s.triangle_count(); ++t) s.material[t] = 1;
+      s.material_opacity = {1.0f, opacity};
+    };
+  };
+  const Gain half = box_gain(true, options, box_material(0.5f), 32);
+  const Gain clear = box_gain(true, options, box_material(0.0f), 32);
+  ASSERT_GT(opaque.method.at(Method::Abuffer), 0.02);
+  // With constant falloff a direction's gains add up to opacity x (f(sin h_max) - f(bias)).
+  EXPECT_NEAR(half.method.at(Method::Abuffer) / opaque.method.at(Method::Abuffer), 0.5, 1e-4);
+  EXPECT_EQ(clear.method.at(Method::Abuffer), 0.0);
+}
+
+TEST(Ssao, SubsetTableHoldsEveryMaskOnce) {
+  for (int s = 1; s <= 8; ++s) {
+    const auto table = subset_table(s);
+    ASSERT_EQ(table.size(), static_cast<std::size_t>(s) + 1);
+    std::size_t total = 0;
+    for (std::size_t r = 0; r < table.size(); ++r) {
+      // C(s, r) masks, each with r bits.
+      double binomial = 1.0;
+      for (std::size_t k = 0; k < r; ++k) binomial = binomial * static_cast<double>(static_cast<std::size_t>(s) - k) / static_cast<double>(k + 1);
+      EXPECT_EQ(static_cast<double>(table[r].size()), binomial);
+      for (const std::uint32_t m : table[r]) EXPECT_EQ(std::popcount(m), static_cast<int>(r));
+      total += table[r].size();
+    }
+    EXPECT_EQ(total, std::size_t{1} << s);
+  }
+}
+
+TEST(Ssao, StochasticDepthKeepsEachLayerWithProbabilityAlpha) {
+  // Ten parallel squares facing the camera: ten fragments per pixel.
+  Scene scene;
+  for (int k = 0; k < 10; ++k) {
+    const float z = -2.0f - 0.5f * static_cast<float>(k);
+    scene.add_triangle({-50.0f, -50.0f, z}, {50.0f, -50.0f, z}, {50.0f, 50.0f, z}, false, 0);
+    scene.add_triangle({-50.0f, -50.0f, z}, {50.0f, 50.0f, z}, {-50.0f, 50.0f, z}, false, 0);
+  }
+  const Camera camera = look_at({0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, -1.0f}, 40.0f);
+  const FragmentBuffer fragments = rasterize_fragments(scene, camera, 64, 64);
+  for (std::size_t p = 0; p < 64 * 64; ++p) {
+    ASSERT_EQ(fragments.at(p).size(), 10u);
+    for (std::size_t k = 1; k < 10; ++k) ASSERT_LT(fragments.at(p)[k - 1].depth, fragments.at(p)[k].depth);
+  }
+  // S = 1: R = floor(alpha + xi) keeps a fragment with probability alpha; a sample is empty when
+  // all ten are dropped, (1 - alpha)^10, and holds the first layer with probability alpha.
+  StochasticDepthOptions o;
+  o.samples = 1;
+  o.alpha = 0.2;
+  const StochasticDepth map = make_stochastic_depth(fragments, o);
+  const double n = 64.0 * 64.0;
+  double empty = 0.0, first = 0.0;
+  for (std::size_t p = 0; p < 64 * 64; ++p) {
+    empty += map.at(p)[0] == kNoDepth;
+    first += map.at(p)[0] == fragments.at(p)[0].depth;
+  }
+  // Binomial standard deviations over 4096 pixels: 0.005 and 0.006; six of them.
+  EXPECT_NEAR(empty / n, std::pow(0.8, 10.0), 0.03);
+  EXPECT_NEAR(first / n, 0.2, 0.036);
+  // alpha = 1: every sample holds the nearest fragment.
+  o.samples = 4;
+  o.alpha = 1.0;
+  const StochasticDepth full = make_stochastic_depth(fragments, o);
+  for (std::size_t p = 0; p < 64 * 64; ++p) {
+    for (const float w : full.at(p)) ASSERT_EQ(w, fragments.at(p)[0].depth);
+  }
+  // A stencil leaves the unmarked pixels empty.
+  std::vector<std::uint8_t> stencil(64 * 64, 0);
+  stencil[100] = 1;
+  const StochasticDepth stenciled = make_stochastic_depth(fragments, o, stencil);
+  EXPECT_EQ(stenciled.at(100)[0], fragments.at(100)[0].depth);
+  EXPECT_EQ(stenciled.at(101)[0], kNoDepth);
+  EXPECT_FALSE(check(StochasticDepthOptions{0, 0.2, 0}));
+  EXPECT_FALSE(check(StochasticDepthOptions{4, 0.0, 0}));
+}
+
+TEST(Ssao, FirstFragmentIsTheGBuffers) {
+  const Scene scene = make_room();
+  const View view = make_view(scene, scene.cameras[0], 120, 90);
+  const FragmentBuffer fragments = rasterize_fragments(scene, scene.cameras[0], 120, 90);
+  std::size_t same = 0, seen = 0;
+  for (std::size_t p = 0; p < view.pixel_count(); ++p) {
+    if (!view.valid[p]) continue;
+    ++seen;
+    ASSERT_FALSE(fragments.at(p).empty());
+    same += fragments.at(p)[0].triangle == view.triangle[p];
+  }
+  // Ties between triangles that meet at a pixel centre may order either way in float depth.
+  EXPECT_GT(static_cast<double>(same), 0.995 * static_cast<double>(seen));
+}
+
+TEST(Ssao, VaoHaloModel) {
+  VaoSample s;
+  s.valid = true;
+  s.z_lo = -0.2;
+  s.z_hi = 0.6;
+  s.height = 1.2;
+  const double tau = 0.5, length = 0.8;
+  EXPECT_DOUBLE_EQ(unoccupied(s, -1.0, tau), length);  // surface below the column: all open
+  EXPECT_DOUBLE_EQ(unoccupied(s, 0.2, tau), 0.4);      // inside: what lies in front of it
+  EXPECT_DOUBLE_EQ(unoccupied(s, 0.6, tau), 0.0);
+  EXPECT_DOUBLE_EQ(unoccupied(s, 1.2, tau), 0.0);      // the constant area, up to 1 + tau
+  EXPECT_NEAR(unoccupied(s, 1.9, tau), 0.4, 1e-12);    // the falloff area, as long as the column
+  EXPECT_DOUBLE_EQ(unoccupied(s, 5.0, tau), length);   // far in front: ignored
+}
+
+TEST(Ssao, RtSvaoTakesExactAoAtFlaggedPixels) {
+  const Exact exact(make_room(), 0.6f, 128);
+  CompareOptions options = options_for(0.6f);
+  options.methods = {Method::Vao, Method::RtSvao};
+  const ViewResult r = compare_view(exact.scene, exact.scene.cameras[0], 96, 72, options, std::cref(exact));
+  const MethodResult& rt = result(r, Method::RtSvao);
+  ASSERT_GT(rt.flagged, 50u);
+  // With the blur off, every pixel is phase 1's VAO or, where flagged, exact AO.
+  std::size_t equal_exact = 0;
+  for (std::size_t p = 0; p < r.view.pixel_count(); ++p) {
+    if (!r.view.valid[p]) continue;
+    ASSERT_TRUE(rt.ao[p] == r.exact[p] || rt.ao[p] == result(r, Method::Vao).ao[p]) << p;
+    equal_exact += rt.ao[p] == r.exact[p];
+  }
+  EXPECT_GE(equal_exact, rt.flagged);
+}
+
+TEST(Ssao, StereoMetricIsZeroForTheSameViewTwice) {
+  const Scene scene = make_room();
+  const View view = make_view(scene, scene.cameras[0], 120, 90);
+  const Correspondence c = correspond(view, view);
+  // The normal check drops pixels whose interpolation would reach across an edge.
+  EXPECT_GT(static_cast<double>(c.left.size()), 0.8 * static_cast<double>(c.left_visible));
+  std::vector<float> ao(view.pixel_count());
+  for (std::size_t p = 0; p < ao.size(); ++p) ao[p] = static_cast<float>(p % 7) / 7.0f;
+  const Inconsistency e = inconsistency(c, ao, ao);
+  // Bilinear weights at a pixel's own centre, up to the float rounding of the projection.
+  EXPECT_LT(e.mean, 1e-5);
+}
+
+// Exact AO is view-independent only with keys from the surface point. With pixel keys the eyes
+// cast different rays at the same point; with world keys what is left is reprojection alone: the
+// error of interpolating a view-independent field between two pixel grids, which one key for the
+// whole scene (a cell larger than the scene) measures.
+TEST(Ssao, WorldKeysMakeExactAoStereoConsistent) {
+  Exact exact(make_room(), 0.6f, 128);
+  exact.engine.emplace(std::move(*lut::MaskEngine::build(exact.rays, lut::MaskMode::Lut)));  // exao compare's masks
+  CompareOptions options = options_for(0.6f);
+  options.methods = {Method::Hbao};
+  const auto [left, right] = stereo_cameras(exact.scene.cameras[0], 0.065);
+  const auto measure = [&](std::optional<float> cell) {
+    options.world_key_cell = cell;
+    const ViewResult l = compare_view(exact.scene, left, 240, 180, options, std::cref(exact));
+    const ViewResult r = compare_view(exact.scene, right, 240, 180, options, std::cref(exact));
+    return inconsistency(correspond(l.view, r.view), l.exact, r.exact);
+  };
+  const Inconsistency pixel_keys = measure(std::nullopt);
+  const Inconsistency world_keys = measure(0.25f * 0.6f);
+  const Inconsistency one_key = measure(1e4f);
+  EXPECT_GT(world_keys.share, 0.8);
+  EXPECT_LT(world_keys.mean, 0.6 * pixel_keys.mean);
+  EXPECT_LT(world_keys.mean, 1.3 * one_key.mean + 1e-4);
+  EXPECT_LT(world_keys.mean, 1.0 / 255.0);
+}
+
+TEST(Ssao, WorldKeyDependsOnlyOnTheCell) {
+  EXPECT_EQ(world_key({0.01f, 0.0f, 0.0f}, 1.0f), world_key({0.02f, 0.0f, 0.0f}, 1.0f));
+  EXPECT_NE(world_key({0.01f, 0.0f, 0.0f}, 1.0f), world_key({0.9f, 0.0f, 0.0f}, 1.0f));
+  // A plane at a round coordinate is not on a cell boundary: float noise keeps one key.
+  EXPECT_EQ(world_key({0.3f, 1e-7f, 0.3f}, 0.5f), world_key({0.3f, -1e-7f, 0.3f}, 0.5f));
+}
+
+// glTF opacity as core/scene.h states it: BLEND is baseColorFactor's alpha, MASK is 0 or 1 by
+// alphaCutoff (default 0.5), OPAQUE is 1.
+TEST(Ssao, GltfMaterialsCarryTheirOpacity) {
+  test::TempDir dir;
+  std::string bin(36, '\0');
+  const float corners[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  std::memcpy(bin.data(), corners, sizeof corners);
+  test::write_file(dir / "t.bin", bin);
+  std::string gltf = R"({"asset":{"version":"2.0"},"buffers":[{"uri":"t.bin","byteLength":36}],
+    "bufferViews":[{"buffer":0,"byteLength":36}],
+    "accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}],
+    "materials":[{"alphaMode":"BLEND","pbrMetallicRoughness":{"baseColorFactor":[1,1,1,0.4]}},
+                 {"alphaMode":"MASK","alphaCutoff":0.5,"pbrMetallicRoughness":{"baseColorFactor":[1,1,1,0.3]}},
+                 {"alphaMode":"MASK","pbrMetallicRoughness":{"baseColorFactor":[1,1,1,0.6]}},
+                 {"pbrMetallicRoughness":{"baseColorFactor":[1,1,1,0.1]}}],
+    "meshes":[{"primitives":[{"attributes":{"POSITION":0},"material":0},{"attributes":{"POSITION":0},"material":1},
+                             {"attributes":{"POSITION":0},"material":2},{"attributes":{"POSITION":0},"material":3}]}],
+    "nodes":[{"mesh":0}],"scenes":[{"nodes":[0]}],"scene":0})";
+  test::write_file(dir / "t.gltf", gltf);
+  const Result<Scene> scene = load_scene((dir / "t.gltf").string());
+  ASSERT_TRUE(scene) << scene.error().message;
+  ASSERT_EQ(scene->triangle_count(), 4u);
+  EXPECT_FLOAT_EQ(scene->opacity(0), 0.4f);
+  EXPECT_FLOAT_EQ(scene->opacity(1), 0.0f);
+  EXPECT_FLOAT_EQ(scene->opacity(2), 1.0f);
+  EXPECT_FLOAT_EQ(scene->opacity(3), 1.0f);
+  EXPECT_FLOAT_EQ(make_room().opacity(0), 1.0f);
+}
+
+TEST(Ssao, AlphaBlendModeTestIsOpaqueWithoutItsTextures) {
+  const auto path = test::real_scene("AlphaBlendModeTest/glTF/AlphaBlendModeTest.gltf");
+  EXAO_REQUIRE_SCENE(path);
+  const Result<Scene> scene = load_scene(path.string());
+  ASSERT_TRUE(scene) << scene.error().message;
+  // Its cut-outs are in the (absent) textures; every baseColorFactor alpha is 1.
+  ASSERT_EQ(scene->material_opacity.size(), 6u);
+  for (const float a : scene->material_opacity) EXPECT_EQ(a, 1.0f);
+}
+
+TEST(Ssao, BadOptionsAreRefusedWithTheirName) {
+  EXPECT_FALSE(parse_methods("hbao,foo"));
+  EXPECT_NE(parse_methods("hbao,foo").error().message.find("foo"), std::string::npos);
+  EXPECT_FALSE(parse_methods("hbao,hbao"));
+  EXPECT_FALSE(parse_methods(""));
+  EXPECT_EQ(parse_methods("hbao+,abuffer")->size(), 2u);
+  CompareOptions o = options_for(1.0f);
+  o.hbao.directions = 0;
+  EXPECT_NE(check(o).error().message.find("directions"), std::string::npos);
+  o = options_for(1.0f);
+  o.vao.thickness = 2.0;
+  EXPECT_NE(check(o).error().message.find("thickness"), std::string::npos);
+  o = options_for(1.0f);
+  o.settings.blur_radius = -1;
+  EXPECT_NE(check(o).error().message.find("blur"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace exao::ssao
