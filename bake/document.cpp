@@ -109,7 +109,7 @@ Result<Document> with_ground(Result<Document> document, const ConvertOptions& co
   if (!height) return fail(document->name() + ": " + height.error().message);
   char note[160];
   std::snprintf(note, sizeof note, "ground plane at y = %g%s: an occluder only (no receivers, not written out)",
-                static_cast<double>(*height), convert.ground_height ? "" : " (the lowest point)");
+                static_cast<double>(*height), convert.ground_height ? "" : " (just below the lowest point)");
   document->impl().notes.emplace_back(note);
   return document;
 }

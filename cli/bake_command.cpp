@@ -351,7 +351,7 @@ Command add_bake_command(CLI::App& app) {
                       "file's set where it can hold AO and generated ones where not (auto)")
       ->capture_default_str();
   command->add_option("--ground", options->ground_value,
-                      "Add an occluding ground plane (never written out) at the model's lowest point (auto) or at height Y "
+                      "Add an occluding ground plane (never written out) just below the model's lowest point (auto) or at height Y "
                       "along +Y")
       ->expected(0, 1);
   command->add_option("--texel-samples", options->texel_samples, "Receivers per texel: a square number (1 = texel centre)")

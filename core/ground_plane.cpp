@@ -9,9 +9,17 @@ Result<float> add_ground_plane(Scene& scene, std::optional<float> height) {
   if (scene.ground_triangles > 0) return fail("ground: the scene has a ground plane already");
   const Bounds bounds = scene.bounds();
   if (bounds.empty()) return fail("ground: the scene has no triangles to stand on a plane");
-  const float y = height.value_or(bounds.lo.y);
-  if (!std::isfinite(y)) return fail("ground: the height must be finite");
+  if (height && !std::isfinite(*height)) return fail("ground: the height must be finite");
   const float reach = 0.5f * std::max(bounds.extent().x, bounds.extent().z) + kGroundMargin * bounds.diagonal();
+  float y = height.value_or(bounds.lo.y);
+  if (!height) {
+    // A receiver exactly at the plane's height (the bottom edge of a model standing on it) would
+    // be exempt from it by the surface rule (core/surface_rule.h): the plane goes a few times the
+    // rule's tolerance lower, so that the contact still gets its shadow.
+    const double scale = std::max({std::abs(double(bounds.centre().x)) + reach, std::abs(double(bounds.centre().z)) + reach,
+                                   std::abs(double(y))});
+    y = static_cast<float>(double(y) - kGroundGapUlps * std::ldexp(scale, -24));
+  }
   const glm::vec3 c(bounds.centre().x, y, bounds.centre().z);
   // Counter-clockwise seen from +Y: the front face looks up at the model.
   const glm::vec3 a = c + glm::vec3(-reach, 0.0f, -reach), b = c + glm::vec3(-reach, 0.0f, reach);

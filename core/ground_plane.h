@@ -12,8 +12,13 @@ namespace exao {
 /// How far the plane reaches beyond the model's footprint, in bounding-box diagonals.
 inline constexpr float kGroundMargin = 2.0f;
 
-/// Appends two two-sided triangles to `scene`, at `height` along +Y (glTF's up axis), or at the
-/// model's lowest point when `height` is empty. They form a square centred under the model,
+/// How far below the model's lowest point the plane goes by default, in float ulps (2^-24) of its
+/// largest coordinate: 4 x the surface rule's tolerance (core/surface_rule.h, kOnPlaneUlps), so
+/// that receivers on the model's bottom edge do not start in the plane's plane.
+inline constexpr double kGroundGapUlps = 64.0;
+
+/// Appends two two-sided triangles to `scene`, at `height` along +Y (glTF's up axis), or just
+/// below the model's lowest point (kGroundGapUlps) when `height` is empty. They form a square centred under the model,
 /// reaching kGroundMargin diagonals beyond its footprint on every side, so that every ray of
 /// a radius up to that length that leaves a receiver downwards meets it. Counted in
 /// scene.ground_triangles, so bounds() (and with it every "% of the diagonal") still describes
