@@ -234,7 +234,7 @@ Result<BakeResult> bake_texture(Document& document, const BakeOptions& options, 
     const std::string set_name = "TEXCOORD_" + std::to_string(u.slot.set);
     if (options.uv == UvMode::Generate) {
       u.generated = true;
-      u.decision = "--uv generate";
+      u.decision = "uv = generate";
       continue;
     }
     auto read = read_uv_set(model, prim, u.slot.set);
@@ -242,7 +242,7 @@ Result<BakeResult> bake_texture(Document& document, const BakeOptions& options, 
     if (!*read) {
       if (options.uv == UvMode::File) {
         return fail(primitive_label(model, prim) + " has no " + set_name +
-                    ": a texture bake needs UVs; bake per vertex instead, or use uv auto or generate" +
+                    ": a texture bake needs UVs; bake per vertex instead, or use uv = auto or generate" +
                     (options.uv_set == 0 ? std::string() : ", or choose another UV set"));
       }
       u.generated = true;
@@ -266,7 +266,7 @@ Result<BakeResult> bake_texture(Document& document, const BakeOptions& options, 
       std::snprintf(range, sizeof range, "(%.3g, %.3g) to (%.3g, %.3g)", figures.lo.x, figures.lo.y, figures.hi.x, figures.hi.y);
       return fail(primitive_label(model, prim) + ": " + set_name + through + " runs from " + range +
                   ", outside [0, 1]; an AO map needs every triangle inside the texture (tiling UVs cannot hold AO): "
-                  "bake per vertex instead, or use uv auto or generate");
+                  "bake per vertex instead, or use uv = auto or generate");
     }
     if (options.uv == UvMode::Auto && !reason.empty()) {
       u.generated = true;
@@ -275,7 +275,7 @@ Result<BakeResult> bake_texture(Document& document, const BakeOptions& options, 
     }
     u.decision = set_name + through + " used (" + percent(figures.uv_area) + " of the map, " +
                  percent(figures.overlap_share) + " self-overlap)";
-    if (!reason.empty()) u.decision += "; it " + reason + ": its AO will be wrong there (--uv auto or generate fixes it)";
+    if (!reason.empty()) u.decision += "; it " + reason + ": its AO will be wrong there (uv = auto or generate fixes it)";
     u.vertex_uv.resize(uv.size());
     for (std::size_t v = 0; v < uv.size(); ++v) {
       u.vertex_uv[v] = glm::clamp(glm::vec2(uv[v]), glm::vec2(0.0f), glm::vec2(1.0f));
@@ -482,7 +482,7 @@ Result<BakeResult> bake_texture(Document& document, const BakeOptions& options, 
     const std::string which = map.label.empty() ? "the AO map" : "AO map " + map.label;
     if (map.covered_texels == 0) {
       result.notes.push_back(which + " covers no texel: its UVs have no area, so it holds no AO (it reads as open); "
-                             "bake with --uv generate or --vertex");
+                             "bake with uv = generate, or per vertex");
     }
     if (map.overlap_texels > 0) {
       std::string reasons;

@@ -250,7 +250,7 @@ Result<AtlasMesh> box_atlas(std::span<const glm::vec3> positions, std::span<cons
   if (!pack(charts, order, 0.0, pad) || !(largest > 0.0)) {
     return fail("the box-projection atlas has " + std::to_string(charts.size()) + " charts, too many for a " +
                 std::to_string(size) + " x " + std::to_string(size) + " texture with " + std::to_string(padding) +
-                " texels between charts: use a larger --texture, a smaller --margin, or --vertex");
+                " texels between charts: use a larger texture size, a smaller margin, or bake per vertex");
   }
   double lo = 0.0, hi = (1.0 - pad) / largest;
   if (!pack(charts, order, hi, pad)) {
