@@ -206,6 +206,8 @@ Result<Bvh> Bvh::build(const lut::TriangleSet& triangles, const BvhOptions& opti
   rtcReleaseDevice(device);
   if (!error.empty()) return fail(error);
   bvh.triangles = permuted(triangles, bvh.scene_triangle);
+  bvh.packed.resize(bvh.triangles.size());
+  for (std::size_t t = 0; t < bvh.packed.size(); ++t) bvh.packed[t] = bvh.triangles.packed(t);
   return bvh;
 }
 

@@ -10,6 +10,7 @@
 #include <glm/glm.hpp>
 
 #include "core/error.h"
+#include "lut/sample_arrays.h"
 #include "lut/triangle_set.h"
 
 namespace exao::bvh {
@@ -38,6 +39,7 @@ struct BvhOptions {
 struct Bvh {
   std::vector<Node> nodes;          // nodes[0] is the root
   lut::TriangleSet triangles;       // in leaf order: leaf triangles are contiguous
+  std::vector<lut::PackedTriangle, lut::CacheLineAllocator<lut::PackedTriangle>> packed;  // the same, a cache line each
   std::vector<std::uint32_t> scene_triangle;  // index in the scene of triangles[i]
 
   /// Builds over `triangles` (copied in leaf order: the floats are the same, so every mask

@@ -79,7 +79,7 @@ template <int Bits, bool Stats>
       }
       std::uint64_t allowed = lut::occupied_clusters(wanted);
       for (std::uint32_t t = entry.child; t < entry.child + entry.leaf_size; ++t) {
-        const Mask<Bits> m = triangle_mask<Bits>(ctx, bvh.triangles, t, frame, allowed, counters);
+        const Mask<Bits> m = triangle_mask<Bits>(ctx, bvh.packed[t], frame, allowed, counters);
         if constexpr (Stats) {
           ++stats->triangles_tested;
           if (popcount_and_not(m, blocked) > 0) ++stats->triangles_blocking;

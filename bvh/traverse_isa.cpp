@@ -19,6 +19,7 @@ namespace exao::bvh::EXAO_KERNEL_NS {
 
 using lut::KernelContext;
 using lut::KernelCounters;
+using lut::PackedTriangle;
 using lut::Plane;
 using lut::SampleArrays;
 using lut::SphereTest;

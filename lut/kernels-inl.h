@@ -239,14 +239,14 @@ template <int Bits>
   return sphere_mask<Bits>(*ctx.samples, test, clusters);
 }
 
-// MaskEngine::triangle_mask restricted to `allowed` clusters (its steps 1-7).
+// MaskEngine::triangle_mask restricted to `allowed` clusters (its steps 1-7), of one triangle.
 template <int Bits>
-[[nodiscard]] inline Mask<Bits> triangle_mask(const KernelContext& ctx, const TriangleSet& triangles, std::uint32_t t,
-                                              const Frame& frame, std::uint64_t allowed, KernelCounters* counters) {
+[[nodiscard]] inline Mask<Bits> triangle_mask(const KernelContext& ctx, const PackedTriangle& tri, const Frame& frame,
+                                              std::uint64_t allowed, KernelCounters* counters) {
   // 1. Into the receiver frame. The horizon test comes first: it is the cheapest and culls most.
-  glm::vec3 a = frame.to_local(triangles.v0[t]);
-  glm::vec3 b = frame.to_local(triangles.v1[t]);
-  glm::vec3 c = frame.to_local(triangles.v2[t]);
+  glm::vec3 a = frame.to_local(tri.v0);
+  glm::vec3 b = frame.to_local(tri.v1);
+  glm::vec3 c = frame.to_local(tri.v2);
   if (a.z <= 0.0f && b.z <= 0.0f && c.z <= 0.0f) return {};
   const float inv_r = ctx.inv_radius;
   a *= inv_r;
@@ -255,7 +255,7 @@ template <int Bits>
 
   // 2. Facing: the origin must be strictly in front of a one-sided triangle's CCW face.
   const glm::vec3 n = glm::cross(b - a, c - a);
-  if (!triangles.two_sided[t] && !(glm::dot(n, -a) > 0.0f)) return {};
+  if (!tri.two_sided && !(glm::dot(n, -a) > 0.0f)) return {};
 
   // 3. The triangle's plane: degenerate, too far (d > r), or through the origin.
   const float n_length = glm::length(n);
@@ -266,8 +266,8 @@ template <int Bits>
   if (!(d <= 1.0f) || d == 0.0f) return {};
 
   // 4. The influence sphere: the triangle's bounding sphere grown by r must hold the origin.
-  const glm::vec3 centre = frame.to_local(triangles.centre[t]);
-  const float reach = triangles.radius[t] + ctx.radius;
+  const glm::vec3 centre = frame.to_local(tri.centre);
+  const float reach = tri.radius + ctx.radius;
   if (glm::dot(centre, centre) > reach * reach) return {};
 
   // 5. The triangle itself within r.
@@ -290,7 +290,7 @@ template <int Bits>
     //     with the sine rounded up and the cosine down.
     const glm::vec3 cn = centre * inv_r;
     const float len = std::sqrt(glm::dot(cn, cn));
-    const float grown = (triangles.radius[t] * inv_r + kTriangleMargin * len) * (1.0f + 1e-5f);
+    const float grown = (tri.radius * inv_r + kTriangleMargin * len) * (1.0f + 1e-5f);
     const float sine = grown / len * (1.0f + 1e-5f);
     const bool use_cone = len > grown && sine < 0.999f;
     const glm::vec3 axis = use_cone ? cn / len : glm::vec3(0.0f);
@@ -309,8 +309,8 @@ template <int Bits>
         counters->near_samples += static_cast<std::uint64_t>(tested);
       }
       if (mask.none()) return mask;
-      if (origin_on_plane(triangles.v0[t], triangles.v1[t], triangles.v2[t], frame.origin)) return {};  // 6b
-      const SphereTest clip = make_sphere_test(centre, triangles.radius[t], ctx.radius, kTriangleMargin);
+      if (origin_on_plane(tri.v0, tri.v1, tri.v2, frame.origin)) return {};  // 6b
+      const SphereTest clip = make_sphere_test(centre, tri.radius, ctx.radius, kTriangleMargin);
       if (clip.kind == SphereTest::Kind::All) return mask;
       Mask<Bits> clipped;
       for (int w = 0; w < Mask<Bits>::kWords; ++w) {
@@ -348,14 +348,21 @@ template <int Bits>
   //     lies on blocks nothing. Decided on the stored world floats, not on d above (the frame's
   //     rounding moves d off 0), so Embree's filter reaches the same answer; only triangles that
   //     set a bit get here, and its place in the steps does not change the bits.
-  if (origin_on_plane(triangles.v0[t], triangles.v1[t], triangles.v2[t], frame.origin)) return {};
+  if (origin_on_plane(tri.v0, tri.v1, tri.v2, frame.origin)) return {};
 
   // 7. The clip by the triangle's own sphere (nothing to clip when the origin is inside it).
-  const SphereTest clip = make_sphere_test(centre, triangles.radius[t], ctx.radius, kTriangleMargin);
+  const SphereTest clip = make_sphere_test(centre, tri.radius, ctx.radius, kTriangleMargin);
   if (clip.kind == SphereTest::Kind::All) return mask;
   if (counters) {
     ++counters->sphere_masks;
     counters->cluster_tests += static_cast<std::uint64_t>(std::popcount(occupied_clusters(mask)));
   }
   return mask & sphere_mask<Bits>(*ctx.samples, clip, occupied_clusters(mask));
+}
+
+// The same for triangle t of a TriangleSet.
+template <int Bits>
+[[nodiscard]] inline Mask<Bits> triangle_mask(const KernelContext& ctx, const TriangleSet& triangles, std::uint32_t t,
+                                              const Frame& frame, std::uint64_t allowed, KernelCounters* counters) {
+  return triangle_mask<Bits>(ctx, triangles.packed(t), frame, allowed, counters);
 }

@@ -13,6 +13,19 @@
 
 namespace exao::lut {
 
+/// One triangle as the mask kernels read it, in one cache line: the same floats as its
+/// TriangleSet entry, so masks computed from either are the same bits. The BVH stores its leaf
+/// triangles this way, since a receiver in dense geometry visits hundreds of them.
+/// 64 bytes, stored from a 64-byte aligned base (not alignas(64): see core/mask.h's kMaskAlign).
+struct PackedTriangle {
+  glm::vec3 v0{0.0f}, v1{0.0f}, v2{0.0f};  // world space; the front face is counter-clockwise
+  glm::vec3 centre{0.0f};                  // bounding sphere (TriangleSet::centre, radius)
+  float radius = 0.0f;
+  std::uint32_t two_sided = 0;
+  std::uint32_t unused[2] = {0, 0};
+};
+static_assert(sizeof(PackedTriangle) == 64);
+
 struct TriangleSet {
   // Structure of arrays, one entry per triangle, in the scene's order (index t = scene index).
   std::vector<glm::vec3> v0, v1, v2;    // world space; the front face is counter-clockwise
@@ -22,6 +35,9 @@ struct TriangleSet {
                                         // in exact arithmetic on the stored floats
 
   [[nodiscard]] std::size_t size() const { return two_sided.size(); }
+  [[nodiscard]] PackedTriangle packed(std::size_t t) const {
+    return {v0[t], v1[t], v2[t], centre[t], radius[t], two_sided[t], {0, 0}};
+  }
 
   /// Copies the scene's triangles and computes their spheres (in double, then the radius is
   /// rounded up to cover the float centre). Multithreaded; a few ms per million triangles.

@@ -205,17 +205,22 @@ class Renderer {
       return;
     }
     const Frame& frame = receivers_.frame[i];
+    // Only the clusters of rays that can still change the buffer are computed (lut/mask_engine.h):
+    // those with an open ray, and among them those the sphere's mask reaches.
+    std::uint64_t clusters = lut::open_clusters(buffer, engine_.samples());
     if (sphere_mask_cull_) {
       // The mask of the triangle's bounding sphere with the node margin holds the triangle's
       // mask (lut/sphere_test.h, nesting): when it adds no ray, neither does the triangle.
-      const Mask<Bits> reach =
-          engine_.region_mask<Bits>(frame.to_local(triangles_.centre[t]), triangles_.radius[t], lut::kNodeMargin);
-      if (popcount_and_not(reach, buffer) == 0) {
+      const Mask<Bits> reach = engine_.region_mask<Bits>(frame.to_local(triangles_.centre[t]), triangles_.radius[t],
+                                                         lut::kNodeMargin, clusters);
+      const Mask<Bits> wanted = and_not(reach, buffer);
+      if (wanted.none()) {
         ++stats.sphere_mask_skipped;
         return;
       }
+      clusters = lut::occupied_clusters(wanted);
     }
-    const Mask<Bits> mask = engine_.triangle_mask<Bits>(triangles_, t, frame);
+    const Mask<Bits> mask = engine_.triangle_mask<Bits>(triangles_, t, frame, clusters);
     ++stats.masks;
     if (mask.any()) {
       ++stats.masks_nonempty;

@@ -4,7 +4,7 @@
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 bash "$here/scripts/install-deps.sh"
-cmake -S "$here" -B "$here/build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DEXAO_NATIVE=ON -DEXAO_WERROR=ON
+cmake -S "$here" -B "$here/build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DEXAO_WERROR=ON
 cmake --build "$here/build" -j2
 bash "$here/scripts/install-test-tools.sh" "$here/build"
 ctest --test-dir "$here/build" --output-on-failure -j2
