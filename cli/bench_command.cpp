@@ -67,8 +67,8 @@ void compare(const MaskSet& reference, const MaskSet& masks, BenchRun& run) {
   run.max_abs_error = max_error;
 }
 
-// The receivers of a bake of the scene (vertex or texel), exactly as `exao bake` makes them.
-Result<std::vector<Receiver>> bake_receivers(bake::Document& document, const std::string& spec) {
+// The bake whose receivers --receivers asks for (vertex or texel); checked before the scene is read.
+Result<bake::BakeOptions> receivers_bake(const std::string& spec) {
   bake::BakeOptions options;
   if (spec == "vertices") {
     options.target = bake::Target::Vertex;
@@ -83,7 +83,10 @@ Result<std::vector<Receiver>> bake_receivers(bake::Document& document, const std
   } else {
     return fail("--receivers: '" + spec + "' is not pixels, vertices or texels:SIZE[:SAMPLES]");
   }
-  return bake::bake_receivers(document, options);
+  if (auto ok = bake::check_options(options); !ok) {
+    return fail("--receivers " + spec + ": " + ok.error().message);
+  }
+  return options;
 }
 
 // One timed configuration of a (N, r): a method with a mask mode and instruction set, or Embree
@@ -157,12 +160,20 @@ int run_bench(const BenchOptions& options) {
   if (!lists) return report(lists.error(), {{"method", "--methods"}});
 
   std::optional<bake::Document> document;
+  std::optional<bake::BakeOptions> bake_options;
   Result<Scene> scene = fail("no scene");
   if (on_pixels) {
     scene = open_scene(options.scene);
   } else {
+    Result<bake::BakeOptions> planned = receivers_bake(options.receivers);
+    if (!planned) return report(planned.error());
+    bake_options = *planned;
+    // A mesh without UVs gets a box-projection atlas laid out for this map size, as in exao bake.
     bake::ConvertOptions convert;
-    if (options.receivers.rfind("texels:", 0) == 0) convert.atlas_size = std::max(16, std::atoi(options.receivers.c_str() + 7));
+    if (bake_options->target == bake::Target::Texture) {
+      convert.atlas_size = bake_options->texture_size;
+      convert.atlas_padding = 2 * bake_options->margin + 2;
+    }
     Result<bake::Document> opened = bake::Document::open(options.scene.scene, convert);
     if (!opened) return report(opened.error());
     document = std::move(*opened);
@@ -204,7 +215,7 @@ int run_bench(const BenchOptions& options) {
     if (!pixels) return report(pixels.error());
     if (pixels->receivers.empty()) return report(Error{options.scene.scene + ": the camera sees no triangle; try --eye/--target"});
   } else {
-    Result<std::vector<Receiver>> receivers = bake_receivers(*document, options.receivers);
+    Result<std::vector<Receiver>> receivers = bake::bake_receivers(*document, *bake_options);
     if (!receivers) return report(receivers.error());
     if (receivers->empty()) return report(Error{options.scene.scene + ": the bake has no receivers"});
     pixels->receivers = std::move(*receivers);
