@@ -48,6 +48,10 @@ void add_method_options(CLI::App& app, MethodOptions& options) {
       ->capture_default_str();
   app.add_option("--branching", options.branching, "BVH children per node: 2 or 4")->capture_default_str();
   app.add_option("--leaf-size", options.leaf_size, "Most triangles per BVH leaf: 1 to 8")->capture_default_str();
+  app.add_option("--isa", options.isa,
+                 "Instruction set of the mask kernels: auto (EXAO_ISA, else the best this CPU runs), scalar, sse2, "
+                 "sse4, avx2 or avx512; every one gives the same bits")
+      ->capture_default_str();
   app.add_option("--alpha", options.alpha, "raster: R/r above which a triangle's volume is a prism, else a billboard")
       ->capture_default_str();
 }
@@ -119,6 +123,9 @@ Result<engine::Options> make_options(const SceneOptions& scene, const RayOptions
   out.bvh.branching = method.branching;
   out.bvh.max_leaf_size = method.leaf_size;
   out.raster.alpha = method.alpha;
+  Result<std::optional<Isa>> isa = parse_isa(method.isa);
+  if (!isa) return std::unexpected(isa.error());
+  out.isa = *isa;
   if (auto ok = engine::check_options(out); !ok) return std::unexpected(ok.error());
   return out;
 }

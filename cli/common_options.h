@@ -48,6 +48,7 @@ struct MethodOptions {
   int branching = engine::Options{}.bvh.branching;
   int leaf_size = engine::Options{}.bvh.max_leaf_size;
   float alpha = engine::Options{}.raster.alpha;
+  std::string isa = "auto";  // the mask kernels' instruction set (core/isa.h)
 };
 
 void add_scene_options(CLI::App& app, SceneOptions& options);

@@ -76,7 +76,7 @@ typedef struct exao_options {
   exao_falloff falloff;   /* default EXAO_FALLOFF_CONSTANT */
   uint64_t pattern_seed;  /* default 0x65CA0 */
   exao_sidedness sidedness; /* default EXAO_SIDED_AUTO */
-  exao_mask_mode mask_mode; /* default EXAO_MASKS_LUT */
+  exao_mask_mode mask_mode; /* default EXAO_MASKS_EXACT */
   float origin_offset;    /* eps, world units, >= 0; negative: 1e-4 of the diagonal (default -1) */
   int threads;            /* worker threads of batch queries, >= 0; 0: one per core (default 0) */
   exao_backend backend;   /* default EXAO_BACKEND_BVH */
