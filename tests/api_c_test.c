@@ -232,6 +232,7 @@ int main(int argc, char** argv) {
   exao_options_init(&options);
   options.samples = 128;
   options.radius = 0.8f;
+  options.mask_mode = EXAO_MASKS_LUT;
   same_as_exao_query(argv[1], argv[2], &options, "-n 128 -r 0.8 --masks lut --method bvh");
   options.samples = 1024;
   options.mask_mode = EXAO_MASKS_EXACT;
