@@ -16,6 +16,7 @@
 #include "cli/bench_report.h"
 #include "cli/commands.h"
 #include "cli/common_options.h"
+#include "cli/lod_options.h"
 #include "cli/progress_bar.h"
 #include "core/atomic_write.h"
 #include "core/pixel_receivers.h"
@@ -33,6 +34,8 @@ struct BenchOptions {
   std::vector<std::string> methods{"embree", "bvh"};
   std::vector<std::string> masks{"lut", "exact"};
   std::vector<std::string> embree_rays{"packet16"};
+  std::vector<std::string> lod{"auto"};  // raster+lod rows: auto, or eps_1 values; off: none
+  LodCliOptions lod_settings;
   int repeats = 1;
   std::string json;
   std::string svg;
@@ -89,6 +92,17 @@ int run_bench(const BenchOptions& options) {
   if (options.repeats < 1) return report(Error{"--repeats: must be at least 1"});
   Result<BackendOptions> backend_options = make_backend_options(options.method);
   if (!backend_options) return report(backend_options.error());
+  // Levels of detail: one raster+lod row per --lod value, for every raster row.
+  std::vector<std::pair<raster::LodOptions, bool>> lod_specs;  // options, automatic
+  for (const std::string& spec : options.lod) {
+    LodCliOptions cli = options.lod_settings;
+    cli.lod = spec;
+    Result<std::optional<raster::LodOptions>> checked = check_lod_cli(cli);
+    if (!checked) return report(checked.error());
+    if (*checked) lod_specs.emplace_back(**checked, spec == "auto");
+  }
+  const bool has_raster = std::find(methods.begin(), methods.end(), Method::Raster) != methods.end();
+  if (!has_raster) lod_specs.clear();
 
   Result<Scene> scene = open_scene(options.scene);
   if (!scene) return report(scene.error());
@@ -109,6 +123,8 @@ int run_bench(const BenchOptions& options) {
   report_data.width = pixels.width;
   report_data.height = pixels.height;
   print_bench_header(report_data);
+  LodCache lod_cache(*scene);
+  const float footprint = pixel_footprint(pixels, *camera);
 
   for (const int n : options.samples) {
     for (const std::string& radius_text : options.radii) {
@@ -124,12 +140,17 @@ int run_bench(const BenchOptions& options) {
         engines[static_cast<int>(mode)] = std::make_unique<lut::MaskEngine>(std::move(*engine));
       }
       // The configurations of this (N, r): Embree first, the reference for every comparison.
-      struct Config { Method method; lut::MaskMode mode; EmbreeRays rays; };
+      struct Config { Method method; lut::MaskMode mode; EmbreeRays rays; int lod = -1; };
       std::vector<Config> configs;
       for (const EmbreeRays r : embree_modes) configs.push_back({Method::Embree, lut::MaskMode::Exact, r});
       for (const Method m : methods) {
         if (m == Method::Embree) continue;
         for (const lut::MaskMode mode : modes) configs.push_back({m, mode, EmbreeRays::Single});
+      }
+      for (const lut::MaskMode mode : modes) {
+        for (std::size_t l = 0; l < lod_specs.size(); ++l) {
+          configs.push_back({Method::Raster, mode, EmbreeRays::Single, static_cast<int>(l)});
+        }
       }
       std::vector<BenchRun> runs(configs.size());
       std::vector<MaskSet> results(configs.size());
@@ -139,9 +160,25 @@ int run_bench(const BenchOptions& options) {
           const Config& config = configs[c];
           const lut::MaskEngine* engine = engines[static_cast<int>(config.mode)].get();
           BackendStats stats;
-          ProgressBar bar(std::string("bench ") + method_name(config.method));
+          // The levels, built once per radius and options (cached across repeats and N), before
+          // the clock starts.
+          const raster::LodScene* lod = nullptr;
+          raster::LodOptions lod_options;
+          if (config.lod >= 0) {
+            const auto& [spec, automatic] = lod_specs[static_cast<std::size_t>(config.lod)];
+            lod_options = resolve_lod(spec, automatic, rays->radius, footprint);
+            bool built = false;
+            {
+              ProgressBar lod_bar("lod");
+              lod = &lod_cache.get(rays->radius, lod_options, lod_bar.callback(), &built);
+            }
+            if (built) std::printf("%s\n", describe_lod(*lod, lod_options, automatic).c_str());
+          }
+          ProgressBar bar(std::string("bench ") + (lod ? "raster+lod" : method_name(config.method)));
           const auto start = std::chrono::steady_clock::now();
-          MaskSet masks = config.method == Method::Raster
+          MaskSet masks = lod ? run_raster_lod(*scene, *lod, *engine, pixels, *camera, backend_options->raster, bar.callback(),
+                                               options.stats ? &stats.raster : nullptr)
+                          : config.method == Method::Raster
                               ? backends->run_raster(*engine, pixels, *camera, bar.callback(), options.stats ? &stats : nullptr)
                               : backends->run(config.method, *rays, engine, pixels.receivers, bar.callback(),
                                               options.stats ? &stats : nullptr, config.rays);
@@ -153,7 +190,11 @@ int run_bench(const BenchOptions& options) {
             run.samples = n;
             run.radius = rays->radius;
             run.radius_text = radius_text;
-            run.method = method_name(config.method);
+            run.method = lod ? "raster+lod" : method_name(config.method);
+            if (lod) {
+              run.lod_eps1 = lod_options.eps1;
+              run.lod_build_seconds = lod->seconds;
+            }
             run.masks = config.method == Method::Embree ? embree_rays_name(config.rays) : lut::mask_mode_name(config.mode);
             run.stats = stats;
             results[c] = std::move(masks);
@@ -165,6 +206,21 @@ int run_bench(const BenchOptions& options) {
         run.mrays_per_s = static_cast<double>(pixels.receivers.size()) * n / run.seconds * 1e-6;
         run.speedup_vs_embree = runs[0].seconds / run.seconds;
         compare(results[0], results[c], run);
+        const AoError vs_embree = ao_error(results[0], results[c]);
+        run.bias = vs_embree.bias;
+        run.identical_8bit = vs_embree.identical_8bit;
+        if (configs[c].lod >= 0) {
+          // LOD's own error: against raster without LOD, same masks (when it was timed).
+          for (std::size_t b = 0; b < configs.size(); ++b) {
+            if (configs[b].method != Method::Raster || configs[b].lod >= 0 || configs[b].mode != configs[c].mode) continue;
+            const AoError own = ao_error(results[b], results[c]);
+            run.lod_speedup_vs_raster = runs[b].seconds / run.seconds;
+            run.lod_mean_abs_vs_raster = own.mean_abs;
+            run.lod_max_abs_vs_raster = own.max_abs;
+            run.lod_bias_vs_raster = own.bias;
+            run.lod_identical_8bit_vs_raster = own.identical_8bit;
+          }
+        }
         print_bench_row(run, options.stats);
         report_data.runs.push_back(run);
       }
@@ -204,6 +260,13 @@ Command add_bench_command(CLI::App& app) {
   command->add_option("--table-resolution", options->method.table_resolution, "Look-up table cells per side (0: default)");
   command->add_option("--branching", options->method.branching, "BVH children per node: 2 or 4")->capture_default_str();
   command->add_option("--leaf-size", options->method.leaf_size, "Most triangles per BVH leaf: 1 to 8")->capture_default_str();
+  command->add_option("--lod", options->lod,
+                      "raster+lod rows (paper Sec. 4.3), a list of auto or eps_1 lengths; off: none")
+      ->delimiter(',')
+      ->capture_default_str();
+  command->add_option("--lod-levels", options->lod_settings.levels, "Simplified levels, 1 to 8")->capture_default_str();
+  command->add_option("--lod-k", options->lod_settings.k, "Level i serves distances [k eps_i, k eps_(i+1)]")->capture_default_str();
+  command->add_option("--lod-filter", options->lod_settings.filter, "envelope or distance")->capture_default_str();
   command->add_option("--repeats", options->repeats, "Interleaved repeats; the fastest time counts")->capture_default_str();
   command->add_option("--json", options->json, "Write the results as JSON");
   command->add_option("--svg", options->svg, "Write a bar chart of Mrays/s as SVG");

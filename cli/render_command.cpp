@@ -9,6 +9,7 @@
 #include "cli/backends.h"
 #include "cli/commands.h"
 #include "cli/common_options.h"
+#include "cli/lod_options.h"
 #include "cli/progress_bar.h"
 #include "core/image_io.h"
 #include "core/pixel_receivers.h"
@@ -22,6 +23,7 @@ struct RenderOptions {
   RayOptions rays;
   CameraOptions camera;
   MethodOptions method;
+  LodCliOptions lod;
   std::string output = "ao.exr";
   std::string png = "ao.png";
   bool counts = false;
@@ -52,6 +54,9 @@ int run_render(const RenderOptions& options) {
   if (!method) return report(method.error());
   Result<BackendOptions> backend_options = make_backend_options(options.method);
   if (!backend_options) return report(backend_options.error());
+  Result<std::optional<raster::LodOptions>> lod_options = check_lod_cli(options.lod);
+  if (!lod_options) return report(lod_options.error());
+  if (*lod_options && *method != Method::Raster) return report(Error{"--lod: only --method raster has levels of detail"});
 
   Result<Scene> scene = open_scene(options.scene);
   if (!scene) return report(scene.error());
@@ -74,20 +79,40 @@ int run_render(const RenderOptions& options) {
   // Primary visibility: Embree's, or the raster backend's own G-buffer.
   PixelReceivers pixels;
   if (*method != Method::Raster) pixels = pixel_receivers(backends->embree(), *scene, *camera, options.camera.width, *height);
+  // The raster G-buffer counts in the frame's time; the levels of detail do not.
+  const auto gbuffer_start = std::chrono::steady_clock::now();
+  if (*method == Method::Raster) pixels = raster::raster_pixel_receivers(*scene, *camera, options.camera.width, *height);
+  const double gbuffer_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - gbuffer_start).count();
+  // Levels of detail: built before the clock starts (once per scene and radius), and said.
+  std::optional<LodCache> lod_cache;
+  const raster::LodScene* lod = nullptr;
+  if (*lod_options) {
+    const raster::LodOptions resolved =
+        resolve_lod(**lod_options, options.lod.lod == "auto", rays->radius, pixel_footprint(pixels, *camera));
+    lod_cache.emplace(*scene);
+    {
+      ProgressBar bar("lod");
+      lod = &lod_cache->get(rays->radius, resolved, bar.callback());
+    }
+    std::printf("%s\n", describe_lod(*lod, resolved, options.lod.lod == "auto").c_str());
+  }
   const auto start = std::chrono::steady_clock::now();
   MaskSet masks;
   BackendStats stats;
   {
     ProgressBar bar("render");
-    if (*method == Method::Raster) {
-      pixels = raster::raster_pixel_receivers(*scene, *camera, options.camera.width, *height);
+    if (lod) {
+      masks = run_raster_lod(*scene, *lod, *engine, pixels, *camera, backend_options->raster, bar.callback(),
+                             options.stats ? &stats.raster : nullptr);
+    } else if (*method == Method::Raster) {
       masks = backends->run_raster(*engine, pixels, *camera, bar.callback(), options.stats ? &stats : nullptr);
     } else {
       masks = backends->run(*method, *rays, engine ? &*engine : nullptr, pixels.receivers, bar.callback(),
                             options.stats ? &stats : nullptr);
     }
   }
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double seconds =
+      gbuffer_seconds + std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
   const AoImage image = to_image(pixels, masks, options.counts);
   if (auto ok = write_exr(image, options.output); !ok) return report(ok.error());
@@ -97,7 +122,7 @@ int run_render(const RenderOptions& options) {
   const double mrays = static_cast<double>(pixels.receivers.size()) * rays->count() / seconds * 1e-6;
   std::printf("%s: %zu triangles, %dx%d, %zu receivers, N=%d, r=%g, %s: %.3f s (%.1f Mrays/s) -> %s%s%s\n",
               options.scene.scene.c_str(), scene->triangle_count(), pixels.width, pixels.height,
-              pixels.receivers.size(), rays->count(), static_cast<double>(rays->radius), method_name(*method), seconds,
+              pixels.receivers.size(), rays->count(), static_cast<double>(rays->radius), lod ? "raster+lod" : method_name(*method), seconds,
               mrays, options.output.c_str(), options.png.empty() ? "" : ", ", options.png.c_str());
   if (options.stats) print_stats(stats);
   return 0;
@@ -112,6 +137,7 @@ Command add_render_command(CLI::App& app) {
   add_ray_options(*command, options->rays);
   add_camera_options(*command, options->camera);
   add_method_options(*command, options->method);
+  add_lod_options(*command, options->lod);
   command->add_option("-o,--output", options->output, "OpenEXR output (Y = AO, A = coverage)")->capture_default_str();
   command->add_option("--png", options->png, "PNG preview (empty: none)")->capture_default_str();
   command->add_flag("--counts", options->counts, "Add a 'blocked' channel with the blocked-ray count");

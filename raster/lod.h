@@ -1,0 +1,109 @@
+#pragma once
+// exao::raster::build_lod: the levels of detail of the paper's Sec. 4.3 for the raster backend.
+//
+// Level 0 is the scene's own triangles, in the scene's order; levels 1..L are simplified copies
+// with allowed geometric error eps_i = eps_1 * 3^(i-1) (the paper triples it per level). A
+// receiver takes occlusion at distance t along a ray from level 0 for t in [0, k eps_1], from
+// level i for t in [k eps_i, k eps_{i+1}]; the last level reaches to r. Each triangle carries its
+// level's DistanceRange (raster/distance_range.h); the raster backend builds its influence volume
+// with r_max and removes the rays shorter than r_min by one more plane test. Levels whose r_min
+// would reach r are not built.
+//
+// How a level is made. The triangles are welded (exact duplicate vertices merged) and cut into
+// connected components; each component is repaired (CGAL Polygon_mesh_processing::
+// repair_polygon_soup) and, if two-sided, oriented (orient_polygon_soup, which also splits
+// non-manifold vertices and edges: for two-sided triangles that changes no blocked ray, and the
+// error bound below holds for the split surface all the same). A component that is still not a
+// manifold surface (in practice: a one-sided component that is not consistently oriented or not
+// manifold, since flipping or splitting it would change which rays it blocks) is "kept": it stays
+// at full detail, range [0, r], in level 0 only.
+// The others form one CGAL Surface_mesh per sidedness, and level i is level i-1 simplified by
+// Surface_mesh_simplification::edge_collapse (Lindstrom-Turk cost and placement) under a filter
+// that bounds the error of every collapse by eps_i - eps_{i-1} with respect to level i-1, so
+// level i is within eps_i of level 0 (triangle inequality):
+//  - Envelope: Polyhedral_envelope_filter, every new face inside the eps-envelope of level i-1
+//    (exact predicates: a true bound for the new faces, one-sided);
+//  - BoundedDistance: Bounded_distance_placement, only the new vertex within eps of level i-1
+//    (cheaper, weaker: the faces around it are not checked).
+// Collapses go on until none is allowed (no target count). Sidedness is kept per triangle.
+//
+// The answer is no longer the ray tracer's: LOD trades exactness for speed (the paper: "we
+// cannot anymore claim that the results are consistent with a ray tracer").
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "core/error.h"
+#include "core/progress.h"
+#include "core/scene.h"
+#include "lut/triangle_set.h"
+#include "raster/distance_range.h"
+
+namespace exao::raster {
+
+enum class LodFilter { Envelope, BoundedDistance };
+
+/// "envelope" or "distance"; the error names the option lod_filter.
+[[nodiscard]] Result<LodFilter> parse_lod_filter(const std::string& name);
+[[nodiscard]] const char* lod_filter_name(LodFilter filter);
+
+struct LodOptions {
+  float eps1 = 0.0f;  // allowed error of level 1, world units, > 0 and finite
+  int levels = 3;     // L, the simplified levels: 1 .. 8
+  float k = 3.0f;     // range scale (the paper: 2 to 5), > 0 and finite
+  LodFilter filter = LodFilter::Envelope;
+};
+
+/// One-line error naming the option and its value when an option is out of range.
+[[nodiscard]] Result<void> check_lod_options(const LodOptions& options);
+
+/// eps_1 for `radius` (world units) and `footprint`, the world size of a pixel at the receivers'
+/// median depth: the levels span the whole radius (k eps_{L+1} = r, so the coarsest level
+/// starts at r / 3), but never an error below 2 pixels' footprint, where simplification would
+/// not pay. Both > 0.
+[[nodiscard]] float auto_lod_eps(float radius, float footprint, int levels, float k);
+
+struct LodLevel {
+  float eps = 0.0f;           // allowed error (0 for level 0)
+  DistanceRange range;        // of the level's simplified triangles (level 0: of the simplifiable ones)
+  std::size_t triangles = 0;  // in this level
+  double seconds = 0.0;       // to build it
+};
+
+struct LodScene {
+  lut::TriangleSet triangles;          // level 0 (the scene's triangles, in order), then levels 1..L
+  std::vector<DistanceRange> ranges;   // per triangle of `triangles`
+  std::vector<std::uint8_t> level;     // per triangle: 0 .. L
+  std::vector<LodLevel> levels;        // [0]: level 0
+  std::size_t components = 0;          // connected components after welding
+  std::size_t split_components = 0;    // ... two-sided ones whose non-manifold vertices or edges
+                                       //     orient_polygon_soup split (then simplified)
+  std::size_t kept_components = 0;     // ... kept at full detail (not simplifiable)
+  std::size_t kept_triangles = 0;      // ... their triangles
+  double seconds = 0.0;                // the whole build
+  std::vector<std::string> notes;      // one line each, for the user (e.g. the kept components)
+};
+
+/// The levels of `scene` for AO radius `radius` (world units, > 0). Fails only on bad options.
+/// Single-threaded (CGAL's simplification is sequential); progress per level. Seconds to
+/// minutes for a million triangles: build once per scene and radius.
+[[nodiscard]] Result<LodScene> build_lod(const Scene& scene, float radius, const LodOptions& options,
+                                         const ProgressCallback& progress = {});
+
+/// Sampled one-sided distance from triangle soup `from` to triangle soup `to` (three vertices per
+/// triangle, world units): the largest distance from a sample point of `from` (its vertices, edge
+/// midpoints and `samples_per_triangle` stratified points on each triangle) to the nearest point
+/// of `to`. The two-sided Hausdorff distance is the larger of both directions. `to` non-empty.
+[[nodiscard]] double sampled_distance(std::span<const glm::vec3> from, std::span<const glm::vec3> to,
+                                      int samples_per_triangle);
+
+/// The triangles of level `i` of `lod`, three vertices each; level 0 without the kept components
+/// when `simplifiable_only`.
+[[nodiscard]] std::vector<glm::vec3> level_triangles(const LodScene& lod, int i, bool simplifiable_only);
+
+}  // namespace exao::raster
