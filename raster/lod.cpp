@@ -235,20 +235,20 @@ Result<LodScene> build_lod(const Scene& scene, float radius, const LodOptions& o
                         "re-oriented): kept at full detail");
   }
 
-  // --- The ranges of the levels that are built: r_min = k eps_i < r. ---
+  // --- The ranges of the levels that are built: r_min = k eps_i < r. Each boundary is computed
+  // once, so that one level's r_max is bit for bit the next level's r_min. ---
   std::vector<float> eps{0.0f};
+  std::vector<float> boundary{0.0f};
   for (int i = 1; i <= options.levels; ++i) {
     const float e = options.eps1 * std::pow(3.0f, static_cast<float>(i - 1));
     if (!(options.k * e < radius)) break;
     eps.push_back(e);
+    boundary.push_back(options.k * e);
   }
+  boundary.push_back(radius);  // the last level reaches r
   const int levels = static_cast<int>(eps.size()) - 1;
   auto range_of = [&](int i) {
-    DistanceRange range;
-    range.r_min = i == 0 ? 0.0f : options.k * eps[static_cast<std::size_t>(i)];
-    const float next = options.k * options.eps1 * std::pow(3.0f, static_cast<float>(i));
-    range.r_max = i == levels || !(next < radius) ? radius : next;
-    return range;
+    return DistanceRange{boundary[static_cast<std::size_t>(i)], boundary[static_cast<std::size_t>(i) + 1]};
   };
 
   // --- Level 0: the scene itself. ---
