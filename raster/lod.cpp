@@ -7,6 +7,8 @@
 #include <numeric>
 #include <unordered_map>
 
+#include <tbb/parallel_for.h>
+
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
 #include <CGAL/AABB_triangle_primitive.h>
@@ -71,11 +73,12 @@ VertexKey key_of(const glm::vec3& v) {
   return k;
 }
 
-// One simplifiable group: the components of one sidedness, as one mesh.
+// One simplifiable component as a mesh. Each is simplified on its own: its envelope holds only
+// its own faces, which keeps the envelope's queries cheap (one envelope around a whole scene
+// of small parts answers every query with many overlapping prisms), and components run in
+// parallel.
 struct Group {
   bool two_sided = false;
-  std::vector<Point> points;
-  std::vector<Polygon> polygons;
   Mesh mesh;
 };
 
@@ -175,8 +178,7 @@ Result<LodScene> build_lod(const Scene& scene, float radius, const LodOptions& o
   // --- Per component: repair, orient, decide; the simplifiable ones into their group. ---
   LodScene lod;
   std::vector<std::uint8_t> kept(n, 0);
-  Group groups[2];
-  groups[1].two_sided = true;
+  std::vector<Group> groups;
   std::unordered_map<std::uint32_t, std::size_t> local;
   for (std::size_t begin = 0; begin < n;) {
     std::size_t end = begin;
@@ -210,19 +212,14 @@ Result<LodScene> build_lod(const Scene& scene, float radius, const LodOptions& o
       for (std::size_t i = begin; i < end; ++i) kept[order[i]] = 1;
       lod.kept_triangles += end - begin;
     } else {
-      Group& g = groups[two_sided ? 1 : 0];
-      const std::size_t offset = g.points.size();
-      g.points.insert(g.points.end(), points.begin(), points.end());
-      for (Polygon p : polygons) g.polygons.push_back({p[0] + offset, p[1] + offset, p[2] + offset});
+      Group& g = groups.emplace_back();
+      g.two_sided = two_sided;
+      PMP::polygon_soup_to_polygon_mesh(points, polygons, g.mesh);
     }
     begin = end;
   }
-  for (Group& g : groups) {
-    if (g.polygons.empty()) continue;
-    PMP::polygon_soup_to_polygon_mesh(g.points, g.polygons, g.mesh);
-    g.points.clear();
-    g.polygons.clear();
-  }
+  std::stable_sort(groups.begin(), groups.end(),
+                   [](const Group& a, const Group& b) { return a.mesh.number_of_faces() > b.mesh.number_of_faces(); });
   if (lod.split_components > 0) {
     lod.notes.push_back(std::to_string(lod.split_components) + " of " + std::to_string(lod.components) +
                         " two-sided components had non-manifold vertices or edges: split by orient_polygon_soup, "
@@ -268,11 +265,11 @@ Result<LodScene> build_lod(const Scene& scene, float radius, const LodOptions& o
     const auto level_start = std::chrono::steady_clock::now();
     const double step = double(eps[static_cast<std::size_t>(i)]) - double(eps[static_cast<std::size_t>(i - 1)]);
     const std::size_t before = all.triangle_count();
-    for (Group& g : groups) {
-      if (g.mesh.number_of_faces() == 0) continue;
-      simplify(g.mesh, step, options.filter);
-      append_mesh(g.mesh, g.two_sided, all);
-    }
+    // Largest components first, so that one big part does not finish last alone.
+    tbb::parallel_for(std::size_t{0}, groups.size(), [&](std::size_t g) {
+      if (groups[g].mesh.number_of_faces() > 1) simplify(groups[g].mesh, step, options.filter);
+    });
+    for (const Group& g : groups) append_mesh(g.mesh, g.two_sided, all);
     const std::size_t added = all.triangle_count() - before;
     lod.ranges.resize(all.triangle_count(), range_of(i));
     lod.level.resize(all.triangle_count(), static_cast<std::uint8_t>(i));

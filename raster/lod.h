@@ -17,7 +17,7 @@
 // manifold surface (in practice: a one-sided component that is not consistently oriented or not
 // manifold, since flipping or splitting it would change which rays it blocks) is "kept": it stays
 // at full detail, range [0, r], in level 0 only.
-// The others form one CGAL Surface_mesh per sidedness, and level i is level i-1 simplified by
+// Each of the others becomes a CGAL Surface_mesh, and its level i is its level i-1 simplified by
 // Surface_mesh_simplification::edge_collapse (Lindstrom-Turk cost and placement) under a filter
 // that bounds the error of every collapse by eps_i - eps_{i-1} with respect to level i-1, so
 // level i is within eps_i of level 0 (triangle inequality):
@@ -90,8 +90,8 @@ struct LodScene {
 };
 
 /// The levels of `scene` for AO radius `radius` (world units, > 0). Fails only on bad options.
-/// Single-threaded (CGAL's simplification is sequential); progress per level. Seconds to
-/// minutes for a million triangles: build once per scene and radius.
+/// Components are simplified in parallel (TBB); progress per level. Seconds to minutes for a
+/// few hundred thousand triangles: build once per scene and radius.
 [[nodiscard]] Result<LodScene> build_lod(const Scene& scene, float radius, const LodOptions& options,
                                          const ProgressCallback& progress = {});
 
