@@ -266,6 +266,7 @@ Command add_bench_command(CLI::App& app) {
       ->capture_default_str();
   command->add_option("--lod-levels", options->lod_settings.levels, "Simplified levels, 1 to 8")->capture_default_str();
   command->add_option("--lod-k", options->lod_settings.k, "Level i serves distances [k eps_i, k eps_(i+1)]")->capture_default_str();
+  command->add_option("--lod-overlap", options->lod_settings.overlap, "Level i starts at (k - overlap) eps_i")->capture_default_str();
   command->add_option("--lod-filter", options->lod_settings.filter, "envelope or distance")->capture_default_str();
   command->add_option("--repeats", options->repeats, "Interleaved repeats; the fastest time counts")->capture_default_str();
   command->add_option("--json", options->json, "Write the results as JSON");

@@ -16,6 +16,9 @@ void add_lod_options(CLI::App& app, LodCliOptions& options) {
       ->capture_default_str();
   app.add_option("--lod-k", options.k, "raster: level i serves distances [k eps_i, k eps_(i+1)]; > 0 (paper: 2 to 5)")
       ->capture_default_str();
+  app.add_option("--lod-overlap", options.overlap,
+                 "raster: level i starts at (k - overlap) eps_i, overlapping the level below; 0 to k")
+      ->capture_default_str();
   app.add_option("--lod-filter", options.filter,
                  "raster: error bound of each collapse: envelope (Polyhedral_envelope_filter) or distance "
                  "(Bounded_distance_placement)")
@@ -28,10 +31,14 @@ Result<std::optional<raster::LodOptions>> check_lod_cli(const LodCliOptions& opt
     return fail("--lod-levels: must be 1 to 8, not " + std::to_string(options.levels));
   }
   if (!(options.k > 0.0f) || !std::isfinite(options.k)) return fail("--lod-k: must be a positive number");
+  if (!(options.overlap >= 0.0f) || !(options.overlap < options.k)) {
+    return fail("--lod-overlap: must be at least 0 and less than --lod-k");
+  }
   Result<raster::LodFilter> filter = raster::parse_lod_filter(options.filter);
   if (!filter) return fail("--lod-filter: unknown filter '" + options.filter + "' (envelope or distance)");
   out.levels = options.levels;
   out.k = options.k;
+  out.overlap = options.overlap;
   out.filter = *filter;
   if (options.lod == "off") return std::optional<raster::LodOptions>{};
   if (options.lod == "auto") {
@@ -70,7 +77,7 @@ raster::LodOptions resolve_lod(const raster::LodOptions& checked, bool automatic
 
 const raster::LodScene& LodCache::get(float radius, const raster::LodOptions& options, const ProgressCallback& progress,
                                       bool* built) {
-  const auto key = std::make_tuple(radius, options.eps1, options.levels, options.k, static_cast<int>(options.filter));
+  const auto key = std::make_tuple(radius, options.eps1, options.levels, options.k, static_cast<int>(options.filter), options.overlap);
   auto& slot = levels_[key];
   if (built) *built = !slot;
   if (!slot) {

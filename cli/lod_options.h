@@ -26,6 +26,7 @@ struct LodCliOptions {
   std::string lod = "off";  // off | auto | a length (eps_1, world units)
   int levels = 3;
   float k = 3.0f;
+  float overlap = 0.0f;
   std::string filter = "envelope";
 };
 
@@ -51,7 +52,7 @@ class LodCache {
 
  private:
   const Scene* scene_;
-  std::map<std::tuple<float, float, int, float, int>, std::unique_ptr<raster::LodScene>> levels_;
+  std::map<std::tuple<float, float, int, float, int, float>, std::unique_ptr<raster::LodScene>> levels_;
 };
 
 /// The raster backend's masks of `pixels` with the levels of `lod`.

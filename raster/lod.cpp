@@ -127,6 +127,9 @@ Result<void> check_lod_options(const LodOptions& options) {
   if (!(options.k > 0.0f) || !std::isfinite(options.k)) {
     return fail("lod_k: must be a positive number, not " + std::to_string(options.k));
   }
+  if (!(options.overlap >= 0.0f) || !(options.overlap < options.k)) {
+    return fail("lod_overlap: must be at least 0 and less than lod_k, not " + std::to_string(options.overlap));
+  }
   return {};
 }
 
@@ -245,7 +248,8 @@ Result<LodScene> build_lod(const Scene& scene, float radius, const LodOptions& o
   boundary.push_back(radius);  // the last level reaches r
   const int levels = static_cast<int>(eps.size()) - 1;
   auto range_of = [&](int i) {
-    return DistanceRange{boundary[static_cast<std::size_t>(i)], boundary[static_cast<std::size_t>(i) + 1]};
+    const auto u = static_cast<std::size_t>(i);
+    return DistanceRange{i == 0 ? 0.0f : boundary[u] - options.overlap * eps[u], boundary[u + 1]};
   };
 
   // --- Level 0: the scene itself. ---

@@ -7,7 +7,8 @@
 // level i for t in [k eps_i, k eps_{i+1}]; the last level reaches to r. Each triangle carries its
 // level's DistanceRange (raster/distance_range.h); the raster backend builds its influence volume
 // with r_max and removes the rays shorter than r_min by one more plane test. Levels whose r_min
-// would reach r are not built.
+// would reach r are not built. LodOptions::overlap lets each level start a little before the
+// one below ends.
 //
 // How a level is made. The triangles are welded (exact duplicate vertices merged) and cut into
 // connected components; each component is repaired (CGAL Polygon_mesh_processing::
@@ -56,6 +57,12 @@ struct LodOptions {
   float eps1 = 0.0f;  // allowed error of level 1, world units, > 0 and finite
   int levels = 3;     // L, the simplified levels: 1 .. 8
   float k = 3.0f;     // range scale (the paper: 2 to 5), > 0 and finite
+  /// Level i >= 1 starts at (k - overlap) eps_i instead of k eps_i, so that it overlaps the level
+  /// below by overlap * eps_i: where a surface meets a ray near the boundary at a grazing angle,
+  /// the finer level may meet it just beyond the boundary and the coarser one (moved by up to
+  /// eps_i) just before it, and without overlap neither would block the ray. Blocking twice
+  /// costs nothing (masks are OR-ed). 0 <= overlap < k.
+  float overlap = 0.0f;
   LodFilter filter = LodFilter::Envelope;
 };
 

@@ -96,6 +96,13 @@ void expect_levels_within_eps(const Scene& scene, LodFilter filter) {
   // last reaches r.
   EXPECT_EQ(lod->levels[0].range.r_min, 0.0f);
   for (std::size_t i = 1; i < lod->levels.size(); ++i) EXPECT_EQ(lod->levels[i].range.r_min, lod->levels[i - 1].range.r_max);
+  // With an overlap, each level starts overlap * eps_i before the one below ends.
+  LodOptions overlapping = options;
+  overlapping.overlap = 1.0f;
+  overlapping.levels = 1;
+  auto shifted = build_lod(scene, radius, overlapping);
+  ASSERT_TRUE(shifted);
+  EXPECT_FLOAT_EQ(shifted->levels[1].range.r_min, shifted->levels[0].range.r_max - options.eps1);
   EXPECT_EQ(lod->levels.back().range.r_max, radius);
   // Sidedness survives simplification.
   for (std::size_t t = 0; t < lod->triangles.size(); ++t) ASSERT_EQ(lod->triangles.two_sided[t], scene.two_sided[0]);
