@@ -77,14 +77,26 @@ raster::LodOptions resolve_lod(const raster::LodOptions& checked, bool automatic
 
 const raster::LodScene& LodCache::get(float radius, const raster::LodOptions& options, const ProgressCallback& progress,
                                       bool* built) {
-  const auto key = std::make_tuple(radius, options.eps1, options.levels, options.k, static_cast<int>(options.filter), options.overlap);
+  const auto key = std::make_tuple(radius, options.eps1, options.levels, options.k, static_cast<int>(options.filter),
+                                   options.overlap);
   auto& slot = levels_[key];
   if (built) *built = !slot;
-  if (!slot) {
-    Result<raster::LodScene> lod = raster::build_lod(*scene_, radius, options, progress);
-    // The options were checked by check_lod_cli and resolve_lod: build_lod cannot fail here.
-    slot = std::make_unique<raster::LodScene>(std::move(*lod));
+  if (slot) return *slot;
+  // The options were checked by check_lod_cli and resolve_lod: the library cannot refuse them.
+  for (const auto& chain : chains_) {
+    if (chain->filter != options.filter) continue;
+    Result<raster::LodScene> lod = raster::assemble_lod(*scene_, *chain, radius, options);
+    if (lod) {
+      slot = std::make_unique<raster::LodScene>(std::move(*lod));
+      return *slot;
+    }
   }
+  // Three levels to spare: they are small, and let eps_1 3 and 9 and 27 reuse the chain.
+  constexpr int kSpare = 3;
+  Result<raster::LodChain> chain = raster::build_lod_chain(*scene_, options.eps1, options.levels + kSpare, options.filter, progress);
+  chains_.push_back(std::make_unique<raster::LodChain>(std::move(*chain)));
+  Result<raster::LodScene> lod = raster::assemble_lod(*scene_, *chains_.back(), radius, options);
+  slot = std::make_unique<raster::LodScene>(std::move(*lod));
   return *slot;
 }
 

@@ -42,7 +42,9 @@ void add_lod_options(CLI::App& app, LodCliOptions& options);
 [[nodiscard]] raster::LodOptions resolve_lod(const raster::LodOptions& checked, bool automatic, float radius,
                                              float footprint);
 
-/// Levels built once per (radius, eps_1, L, k, filter), kept in memory.
+/// Levels built once per scene and kept in memory: simplified geometry (LodChain) once per
+/// filter and eps_1 up to powers of 3, with a few levels to spare, so that every radius and every
+/// eps_1 3^j reuses it; the assembled levels once per (radius, eps_1, L, k, overlap, filter).
 class LodCache {
  public:
   explicit LodCache(const Scene& scene) : scene_(&scene) {}
@@ -52,6 +54,7 @@ class LodCache {
 
  private:
   const Scene* scene_;
+  std::vector<std::unique_ptr<raster::LodChain>> chains_;
   std::map<std::tuple<float, float, int, float, int, float>, std::unique_ptr<raster::LodScene>> levels_;
 };
 

@@ -135,12 +135,18 @@ Result<void> check_lod_options(const LodOptions& options) {
 
 float auto_lod_eps(float radius, float footprint, int levels, float k) {
   const float spanning = radius / (k * std::pow(3.0f, static_cast<float>(levels)));
-  return std::max(spanning, 2.0f * footprint);
+  const float wanted = std::max(spanning, 2.0f * footprint);
+  // Down to a power of 3: levels of eps_1 3^j serve each other (assemble_lod), so nearby radii
+  // and views share one simplification.
+  return std::pow(3.0f, std::floor(std::log(wanted) / std::log(3.0f) + 1e-4f));
 }
 
-Result<LodScene> build_lod(const Scene& scene, float radius, const LodOptions& options, const ProgressCallback& progress) {
-  if (auto ok = check_lod_options(options); !ok) return std::unexpected(ok.error());
-  if (!(radius > 0.0f) || !std::isfinite(radius)) return fail("radius: must be positive, not " + std::to_string(radius));
+Result<LodChain> build_lod_chain(const Scene& scene, float eps1, int levels, LodFilter filter,
+                                 const ProgressCallback& progress) {
+  LodOptions check;
+  check.eps1 = eps1;
+  if (auto ok = check_lod_options(check); !ok) return std::unexpected(ok.error());
+  if (levels < 0) return fail("lod_levels: must be at least 0, not " + std::to_string(levels));
   const auto start = std::chrono::steady_clock::now();
   const std::size_t n = scene.triangle_count();
 
@@ -179,8 +185,11 @@ Result<LodScene> build_lod(const Scene& scene, float radius, const LodOptions& o
   std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return root[a] < root[b]; });
 
   // --- Per component: repair, orient, decide; the simplifiable ones into their group. ---
-  LodScene lod;
-  std::vector<std::uint8_t> kept(n, 0);
+  LodChain lod;
+  lod.eps1 = eps1;
+  lod.filter = filter;
+  lod.kept.assign(n, 0);
+  std::vector<std::uint8_t>& kept = lod.kept;
   std::vector<Group> groups;
   std::unordered_map<std::uint32_t, std::size_t> local;
   for (std::size_t begin = 0; begin < n;) {
@@ -235,6 +244,45 @@ Result<LodScene> build_lod(const Scene& scene, float radius, const LodOptions& o
                         "re-oriented): kept at full detail");
   }
 
+  // --- Levels 1..L, each from the one before. ---
+  ProgressCounter counter(progress, static_cast<std::size_t>(levels));
+  double previous = 0.0;
+  for (int i = 1; i <= levels; ++i) {
+    const auto level_start = std::chrono::steady_clock::now();
+    const double eps = double(eps1) * std::pow(3.0, i - 1);
+    // Largest components first, so that one big part does not finish last alone.
+    tbb::parallel_for(std::size_t{0}, groups.size(), [&](std::size_t g) {
+      if (groups[g].mesh.number_of_faces() > 1) simplify(groups[g].mesh, eps - previous, filter);
+    });
+    previous = eps;
+    Scene& level = lod.levels.emplace_back();
+    for (const Group& g : groups) append_mesh(g.mesh, g.two_sided, level);
+    lod.level_seconds.push_back(elapsed(level_start));
+    counter.add(1);
+  }
+  lod.seconds = elapsed(start);
+  return lod;
+}
+
+Result<LodScene> assemble_lod(const Scene& scene, const LodChain& chain, float radius, const LodOptions& options) {
+  if (auto ok = check_lod_options(options); !ok) return std::unexpected(ok.error());
+  if (!(radius > 0.0f) || !std::isfinite(radius)) return fail("radius: must be positive, not " + std::to_string(radius));
+  // options.eps1 = chain.eps1 * 3^first.
+  const double ratio = std::log(double(options.eps1) / double(chain.eps1)) / std::log(3.0);
+  const int first = static_cast<int>(std::lround(ratio));
+  if (first < 0 || std::abs(ratio - first) > 1e-3) {
+    return fail("lod_eps1: " + std::to_string(options.eps1) + " is not the chain's eps_1 times a power of 3");
+  }
+  const auto start = std::chrono::steady_clock::now();
+  const std::size_t n = scene.triangle_count();
+  LodScene lod;
+  lod.components = chain.components;
+  lod.split_components = chain.split_components;
+  lod.kept_components = chain.kept_components;
+  lod.kept_triangles = chain.kept_triangles;
+  lod.notes = chain.notes;
+  const std::vector<std::uint8_t>& kept = chain.kept;
+
   // --- The ranges of the levels that are built: r_min = k eps_i < r. Each boundary is computed
   // once, so that one level's r_max is bit for bit the next level's r_min. ---
   std::vector<float> eps{0.0f};
@@ -247,6 +295,10 @@ Result<LodScene> build_lod(const Scene& scene, float radius, const LodOptions& o
   }
   boundary.push_back(radius);  // the last level reaches r
   const int levels = static_cast<int>(eps.size()) - 1;
+  if (first + levels > static_cast<int>(chain.levels.size())) {
+    return fail("lod_levels: the chain has " + std::to_string(chain.levels.size()) + " levels, " +
+                std::to_string(first + levels) + " are needed");
+  }
   auto range_of = [&](int i) {
     const auto u = static_cast<std::size_t>(i);
     return DistanceRange{i == 0 ? 0.0f : boundary[u] - options.overlap * eps[u], boundary[u + 1]};
@@ -261,28 +313,31 @@ Result<LodScene> build_lod(const Scene& scene, float radius, const LodOptions& o
   lod.level.assign(n, 0);
   const DistanceRange range0 = range_of(0);
   for (std::size_t t = 0; t < n; ++t) lod.ranges[t] = kept[t] ? DistanceRange{0.0f, radius} : range0;
-  lod.levels.push_back({0.0f, range0, n, elapsed(start)});
-  ProgressCounter counter(progress, static_cast<std::size_t>(levels));
-
-  // --- Levels 1..L, each from the one before. ---
+  lod.levels.push_back({0.0f, range0, n, 0.0});
+  // --- Levels 1..L: the chain's levels first .. first + L - 1. ---
   for (int i = 1; i <= levels; ++i) {
-    const auto level_start = std::chrono::steady_clock::now();
-    const double step = double(eps[static_cast<std::size_t>(i)]) - double(eps[static_cast<std::size_t>(i - 1)]);
-    const std::size_t before = all.triangle_count();
-    // Largest components first, so that one big part does not finish last alone.
-    tbb::parallel_for(std::size_t{0}, groups.size(), [&](std::size_t g) {
-      if (groups[g].mesh.number_of_faces() > 1) simplify(groups[g].mesh, step, options.filter);
-    });
-    for (const Group& g : groups) append_mesh(g.mesh, g.two_sided, all);
-    const std::size_t added = all.triangle_count() - before;
+    const Scene& level = chain.levels[static_cast<std::size_t>(first + i - 1)];
+    all.vertices.insert(all.vertices.end(), level.vertices.begin(), level.vertices.end());
+    all.two_sided.insert(all.two_sided.end(), level.two_sided.begin(), level.two_sided.end());
+    all.material.resize(all.two_sided.size(), -1);
     lod.ranges.resize(all.triangle_count(), range_of(i));
     lod.level.resize(all.triangle_count(), static_cast<std::uint8_t>(i));
-    lod.levels.push_back({eps[static_cast<std::size_t>(i)], range_of(i), added, elapsed(level_start)});
-    counter.add(1);
+    lod.levels.push_back({eps[static_cast<std::size_t>(i)], range_of(i), level.triangle_count(),
+                          chain.level_seconds[static_cast<std::size_t>(first + i - 1)]});
   }
   lod.triangles = lut::TriangleSet::build(all);
-  lod.seconds = elapsed(start);
+  lod.seconds = chain.seconds + elapsed(start);
   return lod;
+}
+
+Result<LodScene> build_lod(const Scene& scene, float radius, const LodOptions& options, const ProgressCallback& progress) {
+  if (auto ok = check_lod_options(options); !ok) return std::unexpected(ok.error());
+  if (!(radius > 0.0f) || !std::isfinite(radius)) return fail("radius: must be positive, not " + std::to_string(radius));
+  int levels = 0;
+  while (levels < options.levels && options.k * options.eps1 * std::pow(3.0f, static_cast<float>(levels)) < radius) ++levels;
+  Result<LodChain> chain = build_lod_chain(scene, options.eps1, levels, options.filter, progress);
+  if (!chain) return std::unexpected(chain.error());
+  return assemble_lod(scene, *chain, radius, options);
 }
 
 std::vector<glm::vec3> level_triangles(const LodScene& lod, int i, bool simplifiable_only) {

@@ -72,7 +72,8 @@ struct LodOptions {
 /// eps_1 for `radius` (world units) and `footprint`, the world size of a pixel at the receivers'
 /// median depth: the levels span the whole radius (k eps_{L+1} = r, so the coarsest level
 /// starts at r / 3), but never an error below 2 pixels' footprint, where simplification would
-/// not pay. Both > 0.
+/// not pay; then rounded down to a power of 3 (in scene units), so that the simplified levels
+/// of one eps_1 serve nearby radii and views too. Both > 0.
 [[nodiscard]] float auto_lod_eps(float radius, float footprint, int levels, float k);
 
 struct LodLevel {
@@ -92,9 +93,33 @@ struct LodScene {
                                        //     orient_polygon_soup split (then simplified)
   std::size_t kept_components = 0;     // ... kept at full detail (not simplifiable)
   std::size_t kept_triangles = 0;      // ... their triangles
-  double seconds = 0.0;                // the whole build
+  double seconds = 0.0;                // the whole build (with the chain's)
   std::vector<std::string> notes;      // one line each, for the user (e.g. the kept components)
 };
+
+/// The geometry of levels 1..`levels` for errors eps_1 3^(i-1), independent of r and k: the
+/// expensive part, which build_lod does once and assemble_lod reuses (a chain for eps_1 serves
+/// every eps_1 3^j, at every radius).
+struct LodChain {
+  float eps1 = 0.0f;
+  LodFilter filter = LodFilter::Envelope;
+  std::vector<Scene> levels;            // [i - 1]: level i (vertices, two_sided)
+  std::vector<double> level_seconds;    // to build each
+  std::vector<std::uint8_t> kept;       // per scene triangle: kept at full detail
+  std::size_t components = 0, split_components = 0, kept_components = 0, kept_triangles = 0;
+  double seconds = 0.0;                 // the whole chain
+  std::vector<std::string> notes;
+};
+
+/// Welds, cuts into components, repairs, orients and simplifies `levels` levels (0 .. 16).
+[[nodiscard]] Result<LodChain> build_lod_chain(const Scene& scene, float eps1, int levels, LodFilter filter,
+                                               const ProgressCallback& progress = {});
+
+/// The LodScene of `chain` for radius `radius` and `options` (options.filter is ignored):
+/// options.eps1 must be chain.eps1 times a power of 3, 3^j, and the chain must hold levels
+/// j+1 .. j+L' (L' the levels below r), else an error naming lod_eps1 or lod_levels.
+[[nodiscard]] Result<LodScene> assemble_lod(const Scene& scene, const LodChain& chain, float radius,
+                                            const LodOptions& options);
 
 /// The levels of `scene` for AO radius `radius` (world units, > 0). Fails only on bad options.
 /// Components are simplified in parallel (TBB); progress per level. Seconds to minutes for a
