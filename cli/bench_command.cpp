@@ -19,6 +19,7 @@
 #include "cli/lod_options.h"
 #include "cli/progress_bar.h"
 #include "core/atomic_write.h"
+#include "core/image_io.h"
 #include "core/pixel_receivers.h"
 
 namespace exao::cli {
@@ -39,6 +40,7 @@ struct BenchOptions {
   int repeats = 1;
   std::string json;
   std::string svg;
+  std::string png_dir;  // a PNG preview of every row's AO, for pictures and by-eye checks
   bool stats = false;
 };
 
@@ -193,6 +195,8 @@ int run_bench(const BenchOptions& options) {
             run.method = lod ? "raster+lod" : method_name(config.method);
             if (lod) {
               run.lod_eps1 = lod_options.eps1;
+              run.lod_levels = lod_options.levels;
+              run.lod_k = lod_options.k;
               run.lod_build_seconds = lod->seconds;
             }
             run.masks = config.method == Method::Embree ? embree_rays_name(config.rays) : lut::mask_mode_name(config.mode);
@@ -222,6 +226,21 @@ int run_bench(const BenchOptions& options) {
           }
         }
         print_bench_row(run, options.stats);
+        if (!options.png_dir.empty()) {
+          AoImage image;
+          image.width = pixels.width;
+          image.height = pixels.height;
+          image.ao.assign(static_cast<std::size_t>(pixels.width) * static_cast<std::size_t>(pixels.height), 1.0f);
+          image.coverage.assign(image.ao.size(), 0.0f);
+          for (std::size_t r = 0; r < pixels.receivers.size(); ++r) {
+            image.ao[pixels.pixel[r]] = results[c].ao(r);
+            image.coverage[pixels.pixel[r]] = 1.0f;
+          }
+          char name[128];
+          std::snprintf(name, sizeof name, "/%d-%s-%s-%s%s.png", n, radius_text.c_str(), run.method.c_str(),
+                        run.masks.c_str(), configs[c].lod >= 0 ? ("-" + std::to_string(run.lod_eps1)).c_str() : "");
+          if (auto ok = write_png(image, options.png_dir + name); !ok) return report(ok.error());
+        }
         report_data.runs.push_back(run);
       }
     }
@@ -271,6 +290,7 @@ Command add_bench_command(CLI::App& app) {
   command->add_option("--repeats", options->repeats, "Interleaved repeats; the fastest time counts")->capture_default_str();
   command->add_option("--json", options->json, "Write the results as JSON");
   command->add_option("--svg", options->svg, "Write a bar chart of Mrays/s as SVG");
+  command->add_option("--png-dir", options->png_dir, "Write every row's AO as a PNG preview into this folder");
   command->add_flag("--stats", options->stats, "Add BVH work counters per receiver");
   return [options, command]() { return command->parsed() ? run_bench(*options) : -1; };
 }

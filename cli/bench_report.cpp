@@ -91,6 +91,8 @@ Result<void> write_bench_json(const BenchReport& report, const std::string& path
                      {"identical_8bit", run.identical_8bit}};
     if (run.lod_build_seconds > 0.0) {
       r["lod_eps1"] = run.lod_eps1;
+      r["lod_levels"] = run.lod_levels;
+      r["lod_k"] = run.lod_k;
       r["lod_build_seconds"] = run.lod_build_seconds;
       r["lod_speedup_vs_raster"] = run.lod_speedup_vs_raster;
       r["lod_mean_abs_vs_raster"] = run.lod_mean_abs_vs_raster;

@@ -28,6 +28,8 @@ struct BenchRun {
   // raster+lod only: the levels' eps_1 and build time (not in `seconds`), and the error and
   // speed-up against raster without LOD on the same masks (LOD's own error).
   double lod_eps1 = 0.0;
+  int lod_levels = 0;
+  double lod_k = 0.0;
   double lod_build_seconds = 0.0;
   double lod_speedup_vs_raster = 0.0;
   double lod_mean_abs_vs_raster = 0.0, lod_max_abs_vs_raster = 0.0, lod_bias_vs_raster = 0.0, lod_identical_8bit_vs_raster = 0.0;

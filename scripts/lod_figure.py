@@ -6,7 +6,7 @@
       `exao render` PNG previews (8-bit grey + alpha). With N = 128 the AO steps (1/128) are
       coarser than 8 bits, so the PNGs hold the AO exactly. Heat: black 0, red, yellow, white at
       |dAO| >= S (default 0.05).
-  lod_figure.py curve BENCH.json OUT.svg
+  lod_figure.py curve BENCH.json [BENCH.json ...] OUT.svg
       Error against speed over eps_1: for each radius, the raster+lod rows of an `exao bench
       --json` run, mean |dAO| against Embree over the speed-up against raster without LOD.
 """
@@ -97,12 +97,14 @@ def figure(lod_path, exact_path, out, scale):
     write_png(out, 3 * hw + 2 * gap, hh, rows)
 
 
-def curve(bench_path, out):
-    runs = json.load(open(bench_path))["runs"]
+def curve(bench_paths, out):
+    runs = []
+    for path in bench_paths:
+        runs += json.load(open(path))["runs"]
     lod = [r for r in runs if r["method"] == "raster+lod" and "lod_speedup_vs_raster" in r]
     series = {}
     for r in lod:
-        series.setdefault((r["radius_option"], r["masks"]), []).append(r)
+        series.setdefault((r["radius_option"], r["masks"], r.get("lod_levels", 3)), []).append(r)
     W, H, L, B, T, R = 640, 400, 70, 50, 30, 150
     xmax = max([2.5] + [r["lod_speedup_vs_raster"] * 1.1 for r in lod])
     ymax = max([0.006] + [r["mean_abs_error"] * 1.15 for r in lod])
@@ -110,7 +112,7 @@ def curve(bench_path, out):
         return L + (W - L - R) * x / xmax
     def py(y):
         return H - B - (H - B - T) * y / ymax
-    colours = ["#1f77b4", "#d62728", "#2ca02c", "#9467bd"]
+    colours = ["#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b"]
     s = ['<svg xmlns="http://www.w3.org/2000/svg" width="%d" height="%d" font-family="sans-serif" font-size="12">' % (W, H),
          '<rect width="100%" height="100%" fill="white"/>',
          '<line x1="%g" y1="%g" x2="%g" y2="%g" stroke="black"/>' % (L, H - B, W - R, H - B),
@@ -128,7 +130,7 @@ def curve(bench_path, out):
     s.append('<line x1="%g" y1="%g" x2="%g" y2="%g" stroke="grey" stroke-dasharray="4 3"/>' % (px(2), T, px(2), H - B))
     s.append('<line x1="%g" y1="%g" x2="%g" y2="%g" stroke="grey" stroke-dasharray="4 3"/>' % (L, py(0.005), W - R, py(0.005)))
     s.append('<text x="%g" y="%g" fill="grey">goal</text>' % (px(2) + 4, py(0.005) - 4))
-    for n, ((radius, masks), rows) in enumerate(sorted(series.items())):
+    for n, ((radius, masks, levels), rows) in enumerate(sorted(series.items())):
         rows.sort(key=lambda r: r["lod_eps1"])
         c = colours[n % len(colours)]
         pts = " ".join("%g,%g" % (px(r["lod_speedup_vs_raster"]), py(r["mean_abs_error"])) for r in rows)
@@ -137,7 +139,7 @@ def curve(bench_path, out):
             x, y = px(r["lod_speedup_vs_raster"]), py(r["mean_abs_error"])
             s.append('<circle cx="%g" cy="%g" r="3" fill="%s"/>' % (x, y, c))
             s.append('<text x="%g" y="%g" font-size="10" fill="%s">%.3g</text>' % (x + 5, y - 5, c, r["lod_eps1"]))
-        s.append('<text x="%g" y="%g" fill="%s">r = %s (%s masks)</text>' % (W - R + 10, T + 16 * (n + 1), c, radius, masks))
+        s.append('<text x="%g" y="%g" fill="%s">r = %s, L = %d (%s)</text>' % (W - R + 10, T + 16 * (n + 1), c, radius, levels, masks))
     s.append('<text x="%g" y="%g" font-size="10">labels: eps_1</text>' % (W - R + 10, T + 16 * (len(series) + 2)))
     s.append("</svg>")
     open(out, "w").write("\n".join(s) + "\n")
@@ -147,7 +149,7 @@ if __name__ == "__main__":
     if len(sys.argv) >= 5 and sys.argv[1] == "figure":
         scale = float(sys.argv[6]) if len(sys.argv) > 6 and sys.argv[5] == "--scale" else 0.05
         figure(sys.argv[2], sys.argv[3], sys.argv[4], scale)
-    elif len(sys.argv) == 4 and sys.argv[1] == "curve":
-        curve(sys.argv[2], sys.argv[3])
+    elif len(sys.argv) >= 4 and sys.argv[1] == "curve":
+        curve(sys.argv[2:-1], sys.argv[-1])
     else:
         sys.exit(__doc__)
