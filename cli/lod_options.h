@@ -24,7 +24,7 @@ namespace exao::cli {
 
 struct LodCliOptions {
   std::string lod = "off";  // off | auto | a length (eps_1, world units)
-  int levels = 3;
+  int levels = 1;
   float k = 3.0f;
   float overlap = 0.0f;
   std::string filter = "envelope";

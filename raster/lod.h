@@ -55,7 +55,7 @@ enum class LodFilter { Envelope, BoundedDistance };
 
 struct LodOptions {
   float eps1 = 0.0f;  // allowed error of level 1, world units, > 0 and finite
-  int levels = 3;     // L, the simplified levels: 1 .. 8
+  int levels = 1;     // L, the simplified levels: 1 .. 8 (1: the best measured, docs/raster-lod.md)
   float k = 3.0f;     // range scale (the paper: 2 to 5), > 0 and finite
   /// Level i >= 1 starts at (k - overlap) eps_i instead of k eps_i, so that it overlaps the level
   /// below by overlap * eps_i: where a surface meets a ray near the boundary at a grazing angle,
@@ -70,10 +70,10 @@ struct LodOptions {
 [[nodiscard]] Result<void> check_lod_options(const LodOptions& options);
 
 /// eps_1 for `radius` (world units) and `footprint`, the world size of a pixel at the receivers'
-/// median depth: the levels span the whole radius (k eps_{L+1} = r, so the coarsest level
-/// starts at r / 3), but never an error below 2 pixels' footprint, where simplification would
-/// not pay; then rounded down to a power of 3 (in scene units), so that the simplified levels
-/// of one eps_1 serve nearby radii and views too. Both > 0.
+/// median depth: max(r / (9 k), 2 footprints), so that level 0 serves about the first ninth of
+/// the radius and no level simplifies below 2 pixels; then rounded down to a power of 3 (in scene
+/// units), so that the simplified levels of one eps_1 serve nearby radii and views too. The
+/// rule comes from the measurements in docs/raster-lod.md. All > 0.
 [[nodiscard]] float auto_lod_eps(float radius, float footprint, int levels, float k);
 
 struct LodLevel {
