@@ -35,7 +35,7 @@ struct BenchOptions {
   std::vector<std::string> methods{"embree", "bvh"};
   std::vector<std::string> masks{"lut", "exact"};
   std::vector<std::string> embree_rays{"packet16"};
-  std::vector<std::string> lod{"auto"};  // raster+lod rows: auto, or eps_1 values; off: none
+  std::vector<std::string> lod{"off"};  // raster+lod rows: auto, or eps_1 values; off: none
   LodCliOptions lod_settings;
   int repeats = 1;
   std::string json;
@@ -280,7 +280,7 @@ Command add_bench_command(CLI::App& app) {
   command->add_option("--branching", options->method.branching, "BVH children per node: 2 or 4")->capture_default_str();
   command->add_option("--leaf-size", options->method.leaf_size, "Most triangles per BVH leaf: 1 to 8")->capture_default_str();
   command->add_option("--lod", options->lod,
-                      "raster+lod rows (paper Sec. 4.3), a list of auto or eps_1 lengths; off: none")
+                      "raster+lod rows (paper Sec. 4.3), a list of auto or eps_1 lengths (ascending: the smallest eps_1 3^j serves the rest); off: none")
       ->delimiter(',')
       ->capture_default_str();
   command->add_option("--lod-levels", options->lod_settings.levels, "Simplified levels, 1 to 8")->capture_default_str();
