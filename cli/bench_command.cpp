@@ -15,8 +15,10 @@
 #include "cli/bench_report.h"
 #include "cli/commands.h"
 #include "cli/common_options.h"
+#include "cli/lod_options.h"
 #include "cli/progress_bar.h"
 #include "core/atomic_write.h"
+#include "core/image_io.h"
 #include "core/isa.h"
 #include "core/pixel_receivers.h"
 #include "engine/engine.h"
@@ -36,11 +38,14 @@ struct BenchOptions {
   std::vector<std::string> embree_rays{"packet16"};
   std::vector<std::string> isas{"auto"};
   std::string receivers = "pixels";  // pixels, vertices, or texels:SIZE[:SAMPLES]
+  std::vector<std::string> lod{"off"};  // raster+lod rows: auto, or eps_1 values; off: none
+  LodCliOptions lod_settings;
   int repeats = 1;
   std::string json;
   std::string svg;
   std::string markdown;
   std::string label;
+  std::string png_dir;  // a PNG preview of every row's AO, for pictures and by-eye checks
   bool stats = false;
 };
 
@@ -96,6 +101,7 @@ struct Config {
   lut::MaskMode mode;
   EmbreeRays rays;
   std::optional<Isa> isa;
+  int lod = -1;  // raster+lod: index into BenchLists::lods
 };
 
 // The lists of --methods, --masks, --embree-rays and --isa, each checked against what the methods
@@ -105,6 +111,7 @@ struct BenchLists {
   std::vector<lut::MaskMode> modes;
   std::vector<EmbreeRays> embree_modes;
   std::vector<Isa> isas;                // resolved: every one runs on this CPU
+  std::vector<raster::LodOptions> lods;  // raster+lod rows, for every raster row (eps1 0: auto)
 };
 
 Result<BenchLists> parse_lists(const BenchOptions& options, const engine::Options& base, engine::Receivers receivers) {
@@ -144,6 +151,20 @@ Result<BenchLists> parse_lists(const BenchOptions& options, const engine::Option
       o.masks = mode;
       if (auto ok = engine::check_serves(o, receivers); !ok) return std::unexpected(ok.error());
     }
+  }
+  // Levels of detail: one raster+lod row per --lod value and raster row; none without raster.
+  const bool raster = std::find(out.methods.begin(), out.methods.end(), engine::Method::Raster) != out.methods.end();
+  for (const std::string& spec : options.lod) {
+    LodCliOptions cli = options.lod_settings;
+    cli.lod = spec;
+    Result<std::optional<raster::LodOptions>> lod = parse_lod(cli);
+    if (!lod) return std::unexpected(lod.error());
+    if (!*lod || !raster) continue;
+    engine::Options o = base;
+    o.method = engine::Method::Raster;
+    o.lod = *lod;
+    if (auto ok = engine::check_options(o); !ok) return std::unexpected(ok.error());
+    out.lods.push_back(**lod);
   }
   return out;
 }
@@ -192,9 +213,10 @@ int run_bench(const BenchOptions& options) {
       engine::Geometry::build(*scene, lists->methods, geometry_options);
   if (!geometry) return report(geometry.error());
   const auto engine_for = [&](engine::Method method, lut::MaskMode mode, std::optional<Isa> isa, int n,
-                              const std::string& radius) {
+                              const std::string& radius, int lod = -1) {
     engine::Options o = *base;
     o.method = method;
+    if (lod >= 0) o.lod = lists->lods[static_cast<std::size_t>(lod)];
     o.masks = mode;
     o.isa = isa;
     o.samples = n;
@@ -246,9 +268,16 @@ int run_bench(const BenchOptions& options) {
           for (const Isa isa : lists->isas) configs.push_back({m, mode, EmbreeRays::Single, isa});
         }
       }
+      for (const lut::MaskMode mode : lists->modes) {
+        for (const Isa isa : lists->isas) {
+          for (std::size_t l = 0; l < lists->lods.size(); ++l) {
+            configs.push_back({engine::Method::Raster, mode, EmbreeRays::Single, isa, static_cast<int>(l)});
+          }
+        }
+      }
       std::vector<engine::Engine> engines;
       for (const Config& config : configs) {
-        Result<engine::Engine> built = engine_for(config.method, config.mode, config.isa, n, radius_text);
+        Result<engine::Engine> built = engine_for(config.method, config.mode, config.isa, n, radius_text, config.lod);
         if (!built) return report(built.error());
         engines.push_back(std::move(*built));
       }
@@ -259,7 +288,21 @@ int run_bench(const BenchOptions& options) {
         for (std::size_t c = 0; c < configs.size(); ++c) {
           const Config& config = configs[c];
           engine::Stats stats;
-          ProgressBar bar(std::string("bench ") + engine::method_name(config.method));
+          // The levels of detail: built before the clock starts, once per radius and options
+          // (the geometry keeps them for every repeat, N and engine), and said when built.
+          std::optional<engine::LodLevels> lod;
+          if (config.lod >= 0) {
+            Result<std::optional<engine::LodLevels>> levels = std::optional<engine::LodLevels>{};
+            {
+              ProgressBar lod_bar("lod");
+              levels = engines[c].prepare_lod(*pixels, view->camera, lod_bar.callback());
+            }
+            if (!levels) return report(levels.error());
+            lod = *levels;
+            if (lod->built) std::printf("%s\n", describe_lod(*lod).c_str());
+          }
+          const std::string method = lod ? "raster+lod" : engine::method_name(config.method);
+          ProgressBar bar("bench " + method);
           engine::RunOptions run;
           run.progress = bar.callback();
           if (options.stats) run.stats = &stats;
@@ -276,7 +319,13 @@ int run_bench(const BenchOptions& options) {
             r.samples = n;
             r.radius = engines[c].radius();
             r.radius_text = radius_text;
-            r.method = engine::method_name(config.method);
+            r.method = method;
+            if (lod) {
+              r.lod_eps1 = lod->options.eps1;
+              r.lod_levels = lod->options.levels;
+              r.lod_k = lod->options.k;
+              r.lod_build_seconds = lod->levels->seconds;
+            }
             r.masks = config.method == engine::Method::Embree ? embree_rays_name(config.rays) : lut::mask_mode_name(config.mode);
             const lut::MaskEngine* masks_engine = engines[c].mask_engine();
             r.isa = masks_engine ? isa_name(masks_engine->isa()) : "";
@@ -290,7 +339,41 @@ int run_bench(const BenchOptions& options) {
         run.mrays_per_s = static_cast<double>(pixels->receivers.size()) * n / run.seconds * 1e-6;
         run.speedup_vs_embree = runs[0].seconds / run.seconds;
         compare(results[0], results[c], run);
+        const AoError vs_embree = ao_error(results[0], results[c]);
+        run.bias = vs_embree.bias;
+        run.identical_8bit = vs_embree.identical_8bit;
+        if (configs[c].lod >= 0) {
+          // LOD's own error: against raster without LOD, same masks and instruction set.
+          for (std::size_t b = 0; b < configs.size(); ++b) {
+            if (configs[b].method != engine::Method::Raster || configs[b].lod >= 0 || configs[b].mode != configs[c].mode ||
+                configs[b].isa != configs[c].isa) {
+              continue;
+            }
+            const AoError own = ao_error(results[b], results[c]);
+            run.lod_speedup_vs_raster = runs[b].seconds / run.seconds;
+            run.lod_mean_abs_vs_raster = own.mean_abs;
+            run.lod_max_abs_vs_raster = own.max_abs;
+            run.lod_bias_vs_raster = own.bias;
+            run.lod_identical_8bit_vs_raster = own.identical_8bit;
+          }
+        }
         print_bench_row(run, options.stats);
+        if (!options.png_dir.empty()) {
+          AoImage image;
+          image.width = pixels->width;
+          image.height = pixels->height;
+          image.ao.assign(static_cast<std::size_t>(pixels->width) * static_cast<std::size_t>(pixels->height), 1.0f);
+          image.coverage.assign(image.ao.size(), 0.0f);
+          for (std::size_t r = 0; r < pixels->receivers.size(); ++r) {
+            const std::size_t at = on_pixels ? pixels->pixel[r] : r;  // bake receivers: one row
+            image.ao[at] = results[c].ao(r);
+            image.coverage[at] = 1.0f;
+          }
+          std::string name = "/" + std::to_string(n) + "-" + radius_text + "-" + run.method + "-" + run.masks;
+          if (!run.isa.empty()) name += "-" + run.isa;
+          if (configs[c].lod >= 0) name += "-" + std::to_string(run.lod_eps1);
+          if (auto ok = write_png(image, options.png_dir + name + ".png"); !ok) return report(ok.error());
+        }
         report_data.runs.push_back(run);
       }
     }
@@ -336,6 +419,15 @@ Command add_bench_command(CLI::App& app) {
                       "Receivers: pixels (of the camera), vertices (of a vertex bake) or texels:SIZE[:SAMPLES] "
                       "(of a texture bake, SAMPLES per texel, default 1)")
       ->capture_default_str();
+  command->add_option("--lod", options->lod,
+                      "raster+lod rows (paper Sec. 4.3), a list of auto or eps_1 lengths (ascending: the smallest "
+                      "eps_1 3^j serves the rest); off: none")
+      ->delimiter(',')
+      ->capture_default_str();
+  command->add_option("--lod-levels", options->lod_settings.levels, "Simplified levels, 1 to 8")->capture_default_str();
+  command->add_option("--lod-k", options->lod_settings.k, "Level i serves distances [k eps_i, k eps_(i+1)]")->capture_default_str();
+  command->add_option("--lod-overlap", options->lod_settings.overlap, "Level i starts at (k - overlap) eps_i")->capture_default_str();
+  command->add_option("--lod-filter", options->lod_settings.filter, "envelope or distance")->capture_default_str();
   command->add_option("--repeats", options->repeats, "Interleaved repeats; the fastest time counts")->capture_default_str();
   command->add_option("--isa", options->isas,
                       "Instruction sets of the mask kernels, a list of auto, scalar, sse2, sse4, avx2, avx512 "
@@ -346,6 +438,7 @@ Command add_bench_command(CLI::App& app) {
   command->add_option("--svg", options->svg, "Write a bar chart of Mrays/s as SVG");
   command->add_option("--markdown", options->markdown, "Write the results as a Markdown table");
   command->add_option("--label", options->label, "The workload's name in the tables (default: scene and receivers)");
+  command->add_option("--png-dir", options->png_dir, "Write every row's AO as a PNG preview into this folder");
   command->add_flag("--stats", options->stats, "Add BVH work counters per receiver");
   return [options, command]() { return command->parsed() ? run_bench(*options) : -1; };
 }

@@ -40,15 +40,22 @@ std::string escape_xml(const std::string& s) {
 void print_bench_header(const BenchReport& report) {
   std::printf("scene %s: %zu triangles, %dx%d camera, %zu receivers, %d threads\n", report.scene.c_str(),
               report.triangles, report.width, report.height, report.receivers, report.threads);
-  std::printf("%5s %10s %-7s %-8s %-6s %9s %9s %8s %10s %9s %9s %9s\n", "N", "radius", "method", "masks", "isa", "seconds",
+  std::printf("%5s %10s %-10s %-8s %-6s %9s %9s %8s %10s %9s %9s %9s\n", "N", "radius", "method", "masks", "isa", "seconds",
               "Mrays/s", "x embree", "rays agree", "identical", "mean|dAO|", "max|dAO|");
 }
 
 void print_bench_row(const BenchRun& run, bool stats) {
-  std::printf("%5d %10.4g %-7s %-8s %-6s %9.3f %9.1f %8.2f %9.4f%% %8.2f%% %9.5f %9.5f\n", run.samples,
+  std::printf("%5d %10.4g %-10s %-8s %-6s %9.3f %9.1f %8.2f %9.4f%% %8.2f%% %9.5f %9.5f\n", run.samples,
               static_cast<double>(run.radius), run.method.c_str(), run.masks.c_str(), run.isa.c_str(), run.seconds, run.mrays_per_s,
               run.speedup_vs_embree, 100.0 * run.ray_agreement, 100.0 * run.identical_receivers, run.mean_abs_error,
               run.max_abs_error);
+  if (run.lod_build_seconds > 0.0) {
+    std::printf("      lod eps_1 %g (levels built in %.2f s, not counted): %.2fx raster; against raster: mean|dAO| %.5f, "
+                "max|dAO| %.5f, bias %+.5f, 8-bit identical %.2f%%; against embree: bias %+.5f, 8-bit identical %.2f%%\n",
+                run.lod_eps1, run.lod_build_seconds, run.lod_speedup_vs_raster, run.lod_mean_abs_vs_raster,
+                run.lod_max_abs_vs_raster, run.lod_bias_vs_raster, 100.0 * run.lod_identical_8bit_vs_raster, run.bias,
+                100.0 * run.identical_8bit);
+  }
   if (stats && run.stats.raster.receivers) std::printf("%s", raster::format_stats(run.stats.raster).c_str());
   if (stats && run.stats.traversal.receivers) {
     const Result<std::optional<Isa>> isa = parse_isa(run.isa);
@@ -80,7 +87,20 @@ Result<void> write_bench_json(const BenchReport& report, const std::string& path
                      {"ray_agreement", run.ray_agreement},
                      {"identical_receivers", run.identical_receivers},
                      {"mean_abs_error", run.mean_abs_error},
-                     {"max_abs_error", run.max_abs_error}};
+                     {"max_abs_error", run.max_abs_error},
+                     {"bias", run.bias},
+                     {"identical_8bit", run.identical_8bit}};
+    if (run.lod_build_seconds > 0.0) {
+      r["lod_eps1"] = run.lod_eps1;
+      r["lod_levels"] = run.lod_levels;
+      r["lod_k"] = run.lod_k;
+      r["lod_build_seconds"] = run.lod_build_seconds;
+      r["lod_speedup_vs_raster"] = run.lod_speedup_vs_raster;
+      r["lod_mean_abs_vs_raster"] = run.lod_mean_abs_vs_raster;
+      r["lod_max_abs_vs_raster"] = run.lod_max_abs_vs_raster;
+      r["lod_bias_vs_raster"] = run.lod_bias_vs_raster;
+      r["lod_identical_8bit_vs_raster"] = run.lod_identical_8bit_vs_raster;
+    }
     const auto& t = run.stats.traversal;
     if (t.receivers) {
       const double n = static_cast<double>(t.receivers);

@@ -24,6 +24,16 @@ struct BenchRun {
   double identical_receivers = 0.0; // share of receivers whose AO equals Embree's
   double mean_abs_error = 0.0;      // |AO - AO_embree|
   double max_abs_error = 0.0;
+  double bias = 0.0;                // mean AO - AO_embree (> 0: brighter)
+  double identical_8bit = 0.0;      // share of receivers whose 8-bit AO equals Embree's
+  // raster+lod only: the levels' eps_1 and build time (not in `seconds`), and the error and
+  // speed-up against raster without LOD on the same masks (LOD's own error).
+  double lod_eps1 = 0.0;
+  int lod_levels = 0;
+  double lod_k = 0.0;
+  double lod_build_seconds = 0.0;
+  double lod_speedup_vs_raster = 0.0;
+  double lod_mean_abs_vs_raster = 0.0, lod_max_abs_vs_raster = 0.0, lod_bias_vs_raster = 0.0, lod_identical_8bit_vs_raster = 0.0;
   engine::Stats stats;
 };
 

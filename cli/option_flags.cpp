@@ -6,7 +6,7 @@
 namespace exao::cli {
 namespace {
 
-constexpr std::array<std::pair<std::string_view, std::string_view>, 21> kFlags{{
+constexpr std::array<std::pair<std::string_view, std::string_view>, 27> kFlags{{
     // engine::Options
     {"radius", "--radius"},
     {"samples", "--samples"},
@@ -23,6 +23,12 @@ constexpr std::array<std::pair<std::string_view, std::string_view>, 21> kFlags{{
     {"embree.rays", "--embree-rays"},
     {"embree.across_receivers", "--embree-per-receiver"},
     {"isa", "--isa"},
+    {"lod", "--lod"},
+    {"lod_eps1", "--lod"},
+    {"lod_levels", "--lod-levels"},
+    {"lod_k", "--lod-k"},
+    {"lod_overlap", "--lod-overlap"},
+    {"lod_filter", "--lod-filter"},
     // bake::BakeOptions
     {"texture_size", "--texture"},
     {"texel_samples", "--texel-samples"},

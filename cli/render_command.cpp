@@ -6,6 +6,7 @@
 
 #include "cli/commands.h"
 #include "cli/common_options.h"
+#include "cli/lod_options.h"
 #include "cli/progress_bar.h"
 #include "core/image_io.h"
 #include "core/pixel_receivers.h"
@@ -19,6 +20,7 @@ struct RenderOptions {
   RayOptions rays;
   CameraOptions camera;
   MethodOptions method;
+  LodCliOptions lod;
   std::string output = "ao.exr";
   std::string png = "ao.png";
   bool counts = false;
@@ -46,6 +48,10 @@ int run_render(const RenderOptions& options) {
   if (auto ok = check_output(options.png, options.scene.scene); !ok) return report(ok.error());
   Result<engine::Options> engine_options = make_options(options.scene, options.rays, options.method);
   if (!engine_options) return report(engine_options.error());
+  Result<std::optional<raster::LodOptions>> lod = parse_lod(options.lod);
+  if (!lod) return report(lod.error());
+  engine_options->lod = *lod;
+  if (auto ok = engine::check_options(*engine_options); !ok) return report(ok.error());
   if (auto ok = engine::check_serves(*engine_options, engine::Receivers::Pixels); !ok) return report(ok.error());
 
   Result<Scene> scene = open_scene(options.scene);
@@ -55,21 +61,36 @@ int run_render(const RenderOptions& options) {
   Result<engine::Engine> engine = engine::Engine::build(*scene, *engine_options, engine::Receivers::Pixels);
   if (!engine) return report(engine.error());
 
+  // The G-buffer counts in the frame's time; the levels of detail, built once per scene and
+  // radius, do not: they are built before the clock starts, and said.
+  const auto gbuffer_start = std::chrono::steady_clock::now();
+  Result<PixelReceivers> pixels_result = engine->render_pixels(view->camera, view->width, view->height);
+  const double gbuffer_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - gbuffer_start).count();
+  if (!pixels_result) return report(pixels_result.error());
+  const PixelReceivers& pixels = *pixels_result;
+  Result<std::optional<engine::LodLevels>> levels = std::optional<engine::LodLevels>{};
+  if (engine_options->lod) {
+    ProgressBar bar("lod");
+    levels = engine->prepare_lod(pixels, view->camera, bar.callback());
+  }
+  if (!levels) return report(levels.error());
+  if (*levels) std::printf("%s\n", describe_lod(**levels).c_str());
+
   engine::Stats stats;
-  Result<engine::PixelResult> result;
+  Result<MaskSet> masks;
   const auto start = std::chrono::steady_clock::now();
   {
     ProgressBar bar("render");
     engine::RunOptions run;
     run.progress = bar.callback();
     if (options.stats) run.stats = &stats;
-    result = engine->render(view->camera, view->width, view->height, run);
+    masks = engine->pixel_masks(pixels, view->camera, run);
   }
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  if (!result) return report(result.error());
+  const double seconds =
+      gbuffer_seconds + std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (!masks) return report(masks.error());
 
-  const PixelReceivers& pixels = result->pixels;
-  const AoImage image = to_image(pixels, result->masks, options.counts);
+  const AoImage image = to_image(pixels, *masks, options.counts);
   if (auto ok = write_exr(image, options.output); !ok) return report(ok.error());
   if (!options.png.empty()) {
     if (auto ok = write_png(image, options.png); !ok) return report(ok.error());
@@ -78,7 +99,7 @@ int run_render(const RenderOptions& options) {
   std::printf("%s: %zu triangles, %dx%d, %zu receivers, N=%d, r=%g, %s: %.3f s (%.1f Mrays/s) -> %s%s%s\n",
               options.scene.scene.c_str(), scene->triangle_count(), pixels.width, pixels.height,
               pixels.receivers.size(), engine->samples(), static_cast<double>(engine->radius()),
-              engine::method_name(engine->method()), seconds, mrays, options.output.c_str(),
+              *levels ? "raster+lod" : engine::method_name(engine->method()), seconds, mrays, options.output.c_str(),
               options.png.empty() ? "" : ", ", options.png.c_str());
   if (options.stats) print_stats(stats);
   return 0;
@@ -93,6 +114,7 @@ Command add_render_command(CLI::App& app) {
   add_ray_options(*command, options->rays);
   add_camera_options(*command, options->camera);
   add_method_options(*command, options->method);
+  add_lod_options(*command, options->lod);
   command->add_option("-o,--output", options->output, "OpenEXR output (Y = AO, A = coverage)")->capture_default_str();
   command->add_option("--png", options->png, "PNG preview (empty: none)")->capture_default_str();
   command->add_flag("--counts", options->counts, "Add a 'blocked' channel with the blocked-ray count");

@@ -54,6 +54,9 @@ Result<void> check_serves(const Options& options, Receivers receivers) {
     return fail(std::string("masks: ") + method + " has no " + lut::mask_mode_name(options.masks) + " masks, got " +
                 lut::mask_mode_name(options.masks));
   }
+  if (options.lod && options.method != Method::Raster) {
+    return fail("lod: only the raster method has levels of detail, got method " + method);
+  }
   if (!holds(c.sidedness, options.sidedness)) return fail("sidedness: not served by " + method);
   if (!holds(c.falloffs, options.falloff)) {
     return fail(std::string("falloff: ") + method + " has no " + falloff_name(options.falloff) + " falloff, got " +

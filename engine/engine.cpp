@@ -231,29 +231,57 @@ Result<MaskSet> Engine::pixel_masks(const PixelReceivers& pixels, const Camera& 
   const Impl& impl = *impl_;
   if (auto ok = check_serves(impl.options, Receivers::Pixels); !ok) return std::unexpected(ok.error());
   if (impl.options.method != Method::Raster) return masks(pixels.receivers, run);
+  Result<std::optional<LodLevels>> lod = prepare_lod(pixels, camera);
+  if (!lod) return std::unexpected(lod.error());
   raster::RasterOptions options = impl.options.raster;
   options.stats = run.stats != nullptr;
+  // With levels of detail the triangles are every level's, each with its distance range.
+  const lut::TriangleSet* triangles = impl.geometry->triangles();
+  if (*lod) {
+    triangles = &(*lod)->levels->triangles;
+    options.ranges = (*lod)->levels->ranges;
+  }
   raster::RasterResult result;
   impl.arena->execute([&] {
-    result = raster::occlusion(pixels, *impl.geometry->scene(), *impl.geometry->triangles(), *impl.masks, camera, options,
-                               run.progress);
+    result = raster::occlusion(pixels, *impl.geometry->scene(), *triangles, *impl.masks, camera, options, run.progress);
   });
   if (run.stats) run.stats->raster += result.stats;
   return std::move(result.masks);
 }
 
-Result<PixelResult> Engine::render(const Camera& camera, int width, int height, const RunOptions& run) const {
+Result<std::optional<LodLevels>> Engine::prepare_lod(const PixelReceivers& pixels, const Camera& camera,
+                                                     const ProgressCallback& progress) const {
+  const Impl& impl = *impl_;
+  if (!impl.options.lod) return std::optional<LodLevels>{};
+  if (auto ok = check_serves(impl.options, Receivers::Pixels); !ok) return std::unexpected(ok.error());
+  LodCache* cache = impl.geometry->lod_cache();
+  EXAO_CHECK(cache != nullptr);  // a geometry that serves raster has one
+  LodLevels out;
+  out.automatic = impl.options.lod->eps1 == 0.0f;
+  out.options = resolve_lod(*impl.options.lod, radius(), pixel_footprint(pixels, camera));
+  Result<LodCache::Entry> entry;
+  impl.arena->execute([&] { entry = cache->get(radius(), out.options, progress); });
+  if (!entry) return std::unexpected(entry.error());
+  out.levels = entry->levels;
+  out.built = entry->built;
+  return std::optional<LodLevels>{out};
+}
+
+Result<PixelReceivers> Engine::render_pixels(const Camera& camera, int width, int height) const {
   const Impl& impl = *impl_;
   if (auto ok = check_serves(impl.options, Receivers::Pixels); !ok) return std::unexpected(ok.error());
+  if (impl.options.method != Method::Raster) return pixel_receivers(camera, width, height);
+  // Its own G-buffer: primary visibility by the same rasteriser that draws the volumes.
+  PixelReceivers out;
+  impl.arena->execute([&] { out = raster::raster_pixel_receivers(*impl.geometry->scene(), camera, width, height); });
+  return out;
+}
+
+Result<PixelResult> Engine::render(const Camera& camera, int width, int height, const RunOptions& run) const {
   PixelResult out;
-  if (impl.options.method == Method::Raster) {
-    // Its own G-buffer: primary visibility by the same rasteriser that draws the volumes.
-    impl.arena->execute([&] { out.pixels = raster::raster_pixel_receivers(*impl.geometry->scene(), camera, width, height); });
-  } else {
-    Result<PixelReceivers> pixels = pixel_receivers(camera, width, height);
-    if (!pixels) return std::unexpected(pixels.error());
-    out.pixels = std::move(*pixels);
-  }
+  Result<PixelReceivers> pixels = render_pixels(camera, width, height);
+  if (!pixels) return std::unexpected(pixels.error());
+  out.pixels = std::move(*pixels);
   Result<MaskSet> masks = pixel_masks(out.pixels, camera, run);
   if (!masks) return std::unexpected(masks.error());
   out.masks = std::move(*masks);

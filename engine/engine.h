@@ -9,7 +9,9 @@
 //    chunks of kChunk receivers, so no call holds more than one chunk's masks;
 //  - threads: everything runs in the engine's own TBB arena of options.threads;
 //  - the progress callback (over the whole batch) and the work counters;
-//  - the AO formula (core/mask_set.h: ao_from_blocked).
+//  - the AO formula (core/mask_set.h: ao_from_blocked);
+//  - the raster levels of detail (options.lod): resolved against the pixels, built once and kept
+//    in the geometry for every engine over it (engine/lod_cache.h).
 
 #include <cstdint>
 #include <memory>
@@ -60,6 +62,14 @@ struct Outputs {
   std::span<float> ao;                // 1 - blocked / N
   std::span<std::uint32_t> blocked;   // blocked rays, in [0, N]
   std::span<std::uint64_t> masks;     // bit i of receiver r: masks[r * mask_words() + i / 64] >> (i % 64)
+};
+
+/// The levels of detail an engine with options.lod uses for one set of pixels.
+struct LodLevels {
+  raster::LodOptions options;                // eps1 resolved (auto: from r and the pixel size)
+  bool automatic = false;                    // eps1 was auto
+  const raster::LodScene* levels = nullptr;  // owned by the geometry's LodCache
+  bool built = false;                        // this call built them
 };
 
 /// Pixel receivers of a camera image and their masks, in pixel order.
@@ -113,6 +123,15 @@ class Engine {
   /// The pixels of a width x height image of `camera` (1 to 16384 each) and their masks: the
   /// raster backend's own G-buffer receivers, or Embree's primary visibility for the others.
   [[nodiscard]] Result<PixelResult> render(const Camera& camera, int width, int height, const RunOptions& run = {}) const;
+  /// The pixel receivers render() computes AO at: the raster backend's own G-buffer, or
+  /// Embree's primary visibility for the others.
+  [[nodiscard]] Result<PixelReceivers> render_pixels(const Camera& camera, int width, int height) const;
+  /// The levels of detail options.lod asks for at these pixels, built on first use and kept in
+  /// the geometry (every engine over it reuses them); nullopt when options.lod is off.
+  /// pixel_masks calls it too: a caller that times pixel_masks calls it first, so that the
+  /// build is not timed. Errors name the option (lod_eps1, lod_levels, ...).
+  [[nodiscard]] Result<std::optional<LodLevels>> prepare_lod(const PixelReceivers& pixels, const Camera& camera,
+                                                             const ProgressCallback& progress = {}) const;
   /// Masks of pixel receivers the caller already has (of this camera and image size), by any
   /// method: exao bench runs every method on Embree's pixels.
   [[nodiscard]] Result<MaskSet> pixel_masks(const PixelReceivers& pixels, const Camera& camera,

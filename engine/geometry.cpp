@@ -72,6 +72,7 @@ Result<std::shared_ptr<const Geometry>> Geometry::build(const Scene& scene, std:
   });
   if (!built) return std::unexpected(built.error());
   if (!keep_scene) geometry->scene_.reset();
+  if (raster) geometry->lod_cache_ = std::make_unique<LodCache>(*geometry->scene_);
   return std::shared_ptr<const Geometry>(std::move(geometry));
 }
 

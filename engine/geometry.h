@@ -12,6 +12,7 @@
 #include "core/embree_reference.h"
 #include "core/error.h"
 #include "core/scene.h"
+#include "engine/lod_cache.h"
 #include "engine/options.h"
 #include "lut/triangle_set.h"
 
@@ -42,6 +43,9 @@ class Geometry {
   [[nodiscard]] std::size_t two_sided_count() const { return two_sided_count_; }
   [[nodiscard]] Sidedness sidedness() const { return sidedness_; }
   [[nodiscard]] const bvh::BvhOptions& bvh_options() const { return bvh_options_; }
+  /// The raster method's levels of detail of scene(), built on first use (nullptr when raster
+  /// was not prepared). Not const: a memo that every engine over this geometry shares.
+  [[nodiscard]] LodCache* lod_cache() const { return lod_cache_.get(); }
   /// Whether this geometry has what `method` needs.
   [[nodiscard]] bool serves(Method method) const;
 
@@ -55,6 +59,7 @@ class Geometry {
   std::size_t two_sided_count_ = 0;
   Sidedness sidedness_ = Sidedness::Auto;
   bvh::BvhOptions bvh_options_;
+  std::unique_ptr<LodCache> lod_cache_;
 };
 
 }  // namespace exao::engine

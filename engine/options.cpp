@@ -11,10 +11,12 @@ namespace {
 constexpr std::array kMethods{Method::Embree, Method::Brute, Method::Bvh, Method::Raster};
 
 // Every field of Options, as errors name them.
-constexpr std::array<std::string_view, 18> kOptionNames{
+constexpr std::array<std::string_view, 25> kOptionNames{
     "radius",       "samples",      "falloff",     "pattern_seed",  "origin_offset", "sidedness",
     "method",       "masks",        "threads",     "table_resolution", "bvh.branching", "bvh.max_leaf_size",
-    "raster.alpha", "raster.stats", "embree.rays", "embree.across_receivers", "embree.coherent", "isa"};
+    "raster.alpha", "raster.stats", "embree.rays", "embree.across_receivers", "embree.coherent", "isa",
+    "lod",          "lod_eps1",     "lod_levels",  "lod_k",         "lod_overlap",   "lod_filter",
+    "raster.ranges"};
 
 template <class Enum>
 bool in_range(Enum value, Enum last) {
@@ -60,6 +62,17 @@ Result<void> check_options(const Options& o) {
   if (auto ok = bvh::check_options(o.bvh); !ok) return ok;
   if (!(std::isfinite(o.raster.alpha) && o.raster.alpha > 0.0f)) {
     return fail("raster.alpha: must be a finite number > 0, got " + std::to_string(o.raster.alpha));
+  }
+  // The ranges belong to the levels' triangles, which only the engine has (options.lod).
+  if (!o.raster.ranges.empty()) return fail("raster.ranges: set by the engine from lod, must be empty");
+  if (o.lod) {
+    if (!in_range(o.lod->filter, raster::LodFilter::BoundedDistance)) {
+      return fail("lod_filter: not a filter, got " + number(static_cast<int>(o.lod->filter)));
+    }
+    // eps1 0 is auto, resolved against the pixels (Engine::prepare_lod); the rest is checked now.
+    raster::LodOptions checked = *o.lod;
+    if (checked.eps1 == 0.0f) checked.eps1 = 1.0f;
+    if (auto ok = raster::check_lod_options(checked); !ok) return ok;
   }
   return {};
 }

@@ -19,6 +19,7 @@
 #include "core/sample_pattern.h"
 #include "core/scene.h"
 #include "lut/mask_engine.h"
+#include "raster/lod.h"
 #include "raster/occlusion.h"
 
 namespace exao::engine {
@@ -67,6 +68,11 @@ struct Options {
   std::optional<Isa> isa;
   bvh::BvhOptions bvh;
   raster::RasterOptions raster;
+  /// The raster method's level of detail (paper Sec. 4.3, raster/lod.h), which trades exact masks
+  /// for speed; nullopt: off (exact). lod->eps1 == 0: auto, raster::auto_lod_eps from the radius
+  /// and the pixel size at the receivers' median depth. Only with method raster (check_serves).
+  /// Its errors name lod_eps1, lod_levels, lod_k, lod_overlap and lod_filter, as raster/lod.h does.
+  std::optional<raster::LodOptions> lod;
   /// How Embree is asked (method embree, and the reference in comparisons).
   EmbreeOptions embree;
 };

@@ -87,6 +87,15 @@ struct VolumeRaster {
   [[nodiscard]] bool empty() const { return x0 > x1 || y0 > y1; }
 };
 
+// The volume parameters of triangle t: its r_max in place of r (paper Sec. 4.3).
+VolumeParams params_of(const VolumeParams& base, std::span<const DistanceRange> ranges, std::uint32_t t) {
+  if (ranges.empty() || !(ranges[t].r_max < base.radius)) return base;
+  VolumeParams p = base;
+  p.grow = base.grow - base.radius + ranges[t].r_max;
+  p.radius = ranges[t].r_max;
+  return p;
+}
+
 static_assert(TileGrid::kTileSize <= 64, "a tile row's pixels must fit a 64-bit mask");
 
 template <int Bits, bool Stats>
@@ -94,7 +103,7 @@ class Renderer {
  public:
   Renderer(const lut::TriangleSet& triangles, const lut::MaskEngine& engine, const Projection& projection,
            const VolumeParams& params, const Receivers& receivers, const std::vector<TileBounds>& row_bounds,
-           int columns, bool sphere_mask_cull, std::vector<Mask<Bits>>& buffers)
+           int columns, bool sphere_mask_cull, std::span<const DistanceRange> ranges, std::vector<Mask<Bits>>& buffers)
       : triangles_(triangles),
         engine_(engine),
         projection_(projection),
@@ -105,12 +114,13 @@ class Renderer {
         buffers_(buffers),
         all_(engine.all_rays<Bits>()),
         sphere_mask_cull_(sphere_mask_cull),
+        ranges_(ranges),
         eye_(projection.eye) {}
 
   // Draws the volume of triangle t into the tile [tx0, tx1] x [ty0, ty1].
   void draw(std::uint32_t t, int tx0, int ty0, int tx1, int ty1, RasterStats& stats) {
     InfluenceVolume volume;
-    if (!build_volume(triangles_, t, params_, projection_, volume)) return;
+    if (!build_volume(triangles_, t, params_of(params_, ranges_, t), projection_, volume)) return;
     // The tile's rows where some receiver may need the triangle (all of them when counting).
     std::uint64_t rows = 0;
     const int column = tx0 / TileGrid::kTileSize;
@@ -220,7 +230,8 @@ class Renderer {
       }
       clusters = lut::occupied_clusters(wanted);
     }
-    const Mask<Bits> mask = engine_.triangle_mask<Bits>(triangles_, t, frame, clusters);
+    const Mask<Bits> mask = ranges_.empty() ? engine_.triangle_mask<Bits>(triangles_, t, frame, clusters)
+                                            : range_mask<Bits>(engine_, triangles_, t, frame, ranges_[t], clusters);
     ++stats.masks;
     if (mask.any()) {
       ++stats.masks_nonempty;
@@ -238,13 +249,14 @@ class Renderer {
   std::vector<Mask<Bits>>& buffers_;
   const Mask<Bits> all_;
   const bool sphere_mask_cull_;
+  const std::span<const DistanceRange> ranges_;
   const glm::vec3 eye_;
 };
 
 template <int Bits, bool Stats>
 void render(const lut::TriangleSet& triangles, const lut::MaskEngine& engine, const Projection& projection,
-            const VolumeParams& params, const Receivers& receivers, bool sphere_mask_cull, MaskSet& masks,
-            RasterStats& stats, const ProgressCallback& progress) {
+            const VolumeParams& params, const Receivers& receivers, bool sphere_mask_cull,
+            std::span<const DistanceRange> ranges, MaskSet& masks, RasterStats& stats, const ProgressCallback& progress) {
   const TileGrid grid(projection.width, projection.height);
   const std::size_t receiver_count = receivers.frame.size();
 
@@ -267,7 +279,8 @@ void render(const lut::TriangleSet& triangles, const lut::MaskEngine& engine, co
     const lut::FlushDenormals flush;  // build_volume as in the tiles below, on any thread
     RasterStats& mine = local.local();
     InfluenceVolume volume;
-    if (!build_volume(triangles, static_cast<std::uint32_t>(t), params, projection, volume)) {
+    if (!build_volume(triangles, static_cast<std::uint32_t>(t), params_of(params, ranges, static_cast<std::uint32_t>(t)),
+                      projection, volume)) {
       ++mine.volumes_off;
       return;
     }
@@ -301,7 +314,7 @@ void render(const lut::TriangleSet& triangles, const lut::MaskEngine& engine, co
     const lut::FlushDenormals flush;  // the same float mode on every thread (lut/float_mode.h)
     RasterStats& mine = local.local();
     Renderer<Bits, Stats> renderer(triangles, engine, projection, params, receivers, row_bounds, grid.columns,
-                                   sphere_mask_cull, buffers);
+                                   sphere_mask_cull, ranges, buffers);
     int tx0 = 0, ty0 = 0, tx1 = 0, ty1 = 0;
     grid.rect(tile, tx0, ty0, tx1, ty1);
     for (std::size_t i = bins.offset[static_cast<std::size_t>(tile)]; i < bins.offset[static_cast<std::size_t>(tile) + 1]; ++i) {
@@ -319,7 +332,11 @@ void render(const lut::TriangleSet& triangles, const lut::MaskEngine& engine, co
 RasterResult occlusion(const PixelReceivers& pixels, const Scene& scene, const lut::TriangleSet& triangles,
                        const lut::MaskEngine& engine, const Camera& camera, const RasterOptions& options,
                        const ProgressCallback& progress) {
-  EXAO_CHECK_EQ(triangles.size(), scene.triangle_count());
+  if (options.ranges.empty()) {
+    EXAO_CHECK_EQ(triangles.size(), scene.triangle_count());
+  } else {
+    EXAO_CHECK_EQ(options.ranges.size(), triangles.size());
+  }
   EXAO_CHECK_GT(options.alpha, 0.0f);
   RasterResult result;
   result.pixels = pixels;
@@ -374,9 +391,9 @@ RasterResult occlusion(const PixelReceivers& pixels, const Scene& scene, const l
   with_mask_bits(engine.samples(), [&](auto bits) {
     constexpr int Bits = decltype(bits)::value;
     if (options.stats) {
-      render<Bits, true>(triangles, engine, projection, params, receivers, options.sphere_mask_cull, result.masks, result.stats, progress);
+      render<Bits, true>(triangles, engine, projection, params, receivers, options.sphere_mask_cull, options.ranges, result.masks, result.stats, progress);
     } else {
-      render<Bits, false>(triangles, engine, projection, params, receivers, options.sphere_mask_cull, result.masks, result.stats, progress);
+      render<Bits, false>(triangles, engine, projection, params, receivers, options.sphere_mask_cull, options.ranges, result.masks, result.stats, progress);
     }
   });
   return result;

@@ -14,6 +14,8 @@
 // span of pixels at once (vectorised). The volumes and tests are conservative, so the masks
 // equal the BVH and brute backends' bit for bit (DESIGN.md section 8, test 2).
 
+#include <span>
+
 #include "core/camera.h"
 #include "core/mask_set.h"
 #include "core/pixel_receivers.h"
@@ -21,6 +23,7 @@
 #include "core/scene.h"
 #include "lut/mask_engine.h"
 #include "lut/triangle_set.h"
+#include "raster/distance_range.h"
 #include "raster/stats.h"
 
 namespace exao::raster {
@@ -43,6 +46,11 @@ struct RasterOptions {
   /// For tests only: shrink every volume's reach by this fraction of r, so that a test can check
   /// that the equality with the BVH catches a volume that is too small. 0 in real use.
   float test_shrink = 0.0f;
+  /// Level of detail (paper Sec. 4.3, raster/lod.h): one distance range per triangle of the
+  /// triangle set, which then holds every level's triangles. A triangle's volume and fragment
+  /// tests use its r_max in place of r, and its mask is range_mask (raster/distance_range.h).
+  /// Empty (the default): every triangle takes [0, r] and the masks are exact.
+  std::span<const DistanceRange> ranges;
 };
 
 struct RasterResult {
