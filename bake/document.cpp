@@ -11,6 +11,7 @@
 #include "bake/document_impl.h"
 #include "bake/gltf_access.h"
 #include "bake/scene_to_gltf.h"
+#include "core/gltf_guard.h"
 #include "core/load_scene.h"
 
 namespace exao::bake {
@@ -44,8 +45,10 @@ bool is_data_uri(const std::string& uri) { return uri.rfind("data:", 0) == 0; }
 Result<std::unique_ptr<Document::Impl>> read_gltf(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) return fail("no such file");
+  if (auto ok = gltf::check_json_depth(path); !ok) return std::unexpected(ok.error());
   auto impl = std::make_unique<Document::Impl>();
   tinygltf::TinyGLTF context;
+  gltf::install_safe_file_access(context);
   context.SetImageLoader(&keep_image_bytes, &impl->image_bytes);
   std::string err;
   std::string warn;

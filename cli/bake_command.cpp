@@ -79,6 +79,7 @@ struct Timed {
 
 int run_bake(const BakeCommandOptions& options) {
   const auto threads = thread_limit(options.rays.threads);
+  if (!threads) return report(threads.error());
   Result<Method> method = parse_method(options.method.method);
   if (!method) return report(method.error());
   std::optional<Method> compare;

@@ -64,6 +64,7 @@ void compare(const MaskSet& reference, const MaskSet& masks, BenchRun& run) {
 
 int run_bench(const BenchOptions& options) {
   const auto threads = thread_limit(options.rays.threads);
+  if (!threads) return report(threads.error());
   std::vector<Method> methods;
   for (const std::string& name : options.methods) {
     Result<Method> m = parse_method(name);

@@ -1,9 +1,13 @@
 #include "cli/common_options.h"
 
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <thread>
 
+#include "core/coordinate_limit.h"
+#include "core/file_kind.h"
 #include "core/load_scene.h"
 
 namespace exao::cli {
@@ -68,8 +72,22 @@ Result<BackendOptions> make_backend_options(const MethodOptions& options) {
   return out;
 }
 
-std::unique_ptr<tbb::global_control> thread_limit(int threads) {
-  if (threads <= 0) return nullptr;
+Result<void> check_threads(int threads) {
+  // oneTBB's own ceiling (it warns and ignores anything above it): 256, or 4x the cores.
+  const int most = std::max(256, 4 * static_cast<int>(std::thread::hardware_concurrency()));
+  if (threads < 0 || threads > most) {
+    return fail("--threads: must be from 0 (all cores) to " + std::to_string(most) + ", got " + std::to_string(threads));
+  }
+  const unsigned cores = std::thread::hardware_concurrency();
+  if (cores > 0 && static_cast<unsigned>(threads) > cores) {
+    std::fprintf(stderr, "exao: note: --threads %d is more than the %u hardware threads of this machine\n", threads, cores);
+  }
+  return {};
+}
+
+Result<std::unique_ptr<tbb::global_control>> thread_limit(int threads) {
+  if (auto ok = check_threads(threads); !ok) return std::unexpected(ok.error());
+  if (threads == 0) return std::unique_ptr<tbb::global_control>();
   return std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
 }
 
@@ -89,7 +107,7 @@ Result<Scene> open_scene(const SceneOptions& options) {
   const LoadReport& r = scene->report;
   const std::string name = options.scene;
   if (r.zero_area_skipped) std::fprintf(stderr, "exao: %s: skipped %zu zero-area triangles of %zu\n", name.c_str(), r.zero_area_skipped, r.triangles_read);
-  if (r.non_finite_skipped) std::fprintf(stderr, "exao: %s: skipped %zu triangles with NaN or infinite vertices\n", name.c_str(), r.non_finite_skipped);
+  if (r.non_finite_skipped) std::fprintf(stderr, "exao: %s: skipped %zu triangles with NaN, infinite or huge (beyond +-1e17) vertices\n", name.c_str(), r.non_finite_skipped);
   for (const std::string& note : r.notes) std::fprintf(stderr, "exao: %s: %s\n", name.c_str(), note.c_str());
   apply_sidedness(*scene, options.sided == "one" ? Sidedness::One : options.sided == "two" ? Sidedness::Two : Sidedness::Auto);
   return scene;
@@ -110,10 +128,29 @@ Result<float> parse_radius(const std::string& text, float diagonal) {
   return percent ? value * 0.01f * diagonal : value;
 }
 
+Result<void> check_radius(float radius, float diagonal, float offset) {
+  if (!(radius <= kMaxCoordinate)) return fail("--radius: " + std::to_string(radius) + " is beyond exao's limit of 1e17");
+  if (!(std::isfinite(offset) && offset >= 0.0f && offset <= kMaxCoordinate)) {
+    return fail("--offset: must be a length from 0 to 1e17, got " + std::to_string(offset));
+  }
+  // Legal, but almost certainly not what was meant: say so once.
+  if (diagonal > 0.0f && radius > 10.0f * diagonal) {
+    std::fprintf(stderr, "exao: note: --radius %g is %.0f times the scene's diagonal (%g): every ray reaches across the whole scene\n",
+                 static_cast<double>(radius), static_cast<double>(radius / diagonal), static_cast<double>(diagonal));
+  } else if (radius <= offset) {
+    std::fprintf(stderr, "exao: note: --radius %g is not longer than the ray origin offset (%g): rays start beyond their own reach of the surface\n",
+                 static_cast<double>(radius), static_cast<double>(offset));
+  }
+  return {};
+}
+
 Result<ShadowRays> make_rays(const RayOptions& options, const Scene& scene) {
   const float diagonal = scene.bounds().diagonal();
   Result<float> radius = parse_radius(options.radius, diagonal);
   if (!radius) return std::unexpected(radius.error());
+  if (auto ok = check_radius(*radius, diagonal, options.offset.value_or(kDefaultOffsetFraction * diagonal)); !ok) {
+    return std::unexpected(ok.error());
+  }
   Result<Falloff> falloff = parse_falloff(options.falloff);
   if (!falloff) return std::unexpected(falloff.error());
   Result<SamplePattern> pattern = make_sample_pattern(options.samples, *falloff);
@@ -121,26 +158,43 @@ Result<ShadowRays> make_rays(const RayOptions& options, const Scene& scene) {
   return make_shadow_rays(std::move(*pattern), *radius, options.offset.value_or(kDefaultOffsetFraction * diagonal));
 }
 
+namespace {
+
+// The camera a choice gave, unless Embree could not cast its rays (core/camera.h).
+Result<Camera> checked(Camera camera, const std::string& what) {
+  if (const std::string problem = camera_problem(camera); !problem.empty()) return fail(what + ": " + problem);
+  return camera;
+}
+
+}  // namespace
+
 Result<Camera> choose_camera(const CameraOptions& options, const Scene& scene) {
   if (!options.eye.empty() || !options.target.empty()) {
     if (options.eye.size() != 3 || options.target.size() != 3) return fail("--eye and --target: give both, as X,Y,Z");
     const glm::vec3 eye(options.eye[0], options.eye[1], options.eye[2]);
     const glm::vec3 target(options.target[0], options.target[1], options.target[2]);
-    if (glm::length(target - eye) <= 0.0f) return fail("--eye and --target: must be different points");
+    if (!within_coordinate_limit(eye)) return fail("--eye: each coordinate must be a finite number within +-1e17");
+    if (!within_coordinate_limit(target)) return fail("--target: each coordinate must be a finite number within +-1e17");
+    if (glm::length(glm::dvec3(target) - glm::dvec3(eye)) <= 0.0) return fail("--eye and --target: must be different points");
     if (!(options.fov > 0.0f && options.fov < 180.0f)) return fail("--fov: must be between 0 and 180 degrees");
-    return look_at(eye, target, options.fov);
+    return checked(look_at(eye, target, options.fov), "--eye and --target");
   }
   if (!options.camera.empty()) {
     for (const Camera& camera : scene.cameras) {
-      if (camera.name == options.camera) return camera;
+      if (camera.name == options.camera) return checked(camera, "--camera " + options.camera);
     }
-    const bool digits = options.camera.find_first_not_of("0123456789") == std::string::npos;
-    if (digits && std::stoul(options.camera) < scene.cameras.size()) return scene.cameras[std::stoul(options.camera)];
+    unsigned long long index = 0;
+    const char* first = options.camera.data();
+    const char* last = first + options.camera.size();
+    const auto [end, error] = std::from_chars(first, last, index);
+    if (error == std::errc() && end == last && index < scene.cameras.size()) {
+      return checked(scene.cameras[static_cast<std::size_t>(index)], "--camera " + options.camera);
+    }
     return fail("--camera: the scene has no camera '" + options.camera + "' (it has " + std::to_string(scene.cameras.size()) + ")");
   }
-  if (!scene.cameras.empty()) return scene.cameras.front();
+  if (!scene.cameras.empty()) return checked(scene.cameras.front(), "the scene's camera '" + scene.cameras.front().name + "'");
   const float aspect = static_cast<float>(options.width) / static_cast<float>(options.height.value_or(std::max(1, options.width * 3 / 4)));
-  return frame_bounds(scene.bounds(), aspect);
+  return checked(frame_bounds(scene.bounds(), aspect), "the view that frames the scene");
 }
 
 Result<int> image_height(const CameraOptions& options, const Camera& camera) {
@@ -160,6 +214,12 @@ Result<int> image_height(const CameraOptions& options, const Camera& camera) {
 
 Result<void> check_output(const std::string& output, const std::string& input) {
   std::error_code ec;
+  // Refused now rather than after the work; write_atomically refuses it again (core/atomic_write.h).
+  if (std::filesystem::exists(std::filesystem::symlink_status(output, ec))) {
+    if (const std::string problem = not_a_regular_file(output); !problem.empty()) {
+      return fail(output + ": " + problem + "; refusing to replace it");
+    }
+  }
   if (std::filesystem::exists(input, ec) && std::filesystem::exists(output, ec) &&
       std::filesystem::equivalent(output, input, ec)) {
     return fail(output + ": is the input scene; refusing to overwrite it");

@@ -62,6 +62,10 @@ void add_method_options(CLI::App& app, MethodOptions& options);
 /// "0.5" is a length; "5%" is 5 percent of `diagonal`.
 [[nodiscard]] Result<float> parse_radius(const std::string& text, float diagonal);
 
+/// Refuses a radius or offset beyond 1e17 (core/coordinate_limit.h); prints a note on stderr for
+/// a radius over 10x the scene's diagonal, or not longer than the offset.
+[[nodiscard]] Result<void> check_radius(float radius, float diagonal, float offset);
+
 /// The pattern and radius of section 1, for this scene.
 [[nodiscard]] Result<ShadowRays> make_rays(const RayOptions& options, const Scene& scene);
 
@@ -69,14 +73,20 @@ void add_method_options(CLI::App& app, MethodOptions& options);
 [[nodiscard]] Result<Camera> choose_camera(const CameraOptions& options, const Scene& scene);
 [[nodiscard]] Result<int> image_height(const CameraOptions& options, const Camera& camera);
 
-/// Refuses an output path that names the input file (inputs are never overwritten).
+/// Refuses an output path that names the input file (inputs are never overwritten), or that
+/// exists and is not a regular file (a folder, device, FIFO or socket; symbolic links are followed).
 [[nodiscard]] Result<void> check_output(const std::string& output, const std::string& input);
 
 /// The backend settings of --masks, --embree-rays, --table-resolution and --branching.
 [[nodiscard]] Result<BackendOptions> make_backend_options(const MethodOptions& options);
 
-/// Caps TBB's worker threads when threads > 0; keep the result alive while working.
-[[nodiscard]] std::unique_ptr<tbb::global_control> thread_limit(int threads);
+/// --threads: 0 (all cores) up to oneTBB's ceiling (256, or 4x the cores), else an error; a note
+/// on stderr when it is more than the machine's hardware threads.
+[[nodiscard]] Result<void> check_threads(int threads);
+
+/// Checks `threads` (check_threads) and caps TBB's worker threads when threads > 0; keep the
+/// result alive while working.
+[[nodiscard]] Result<std::unique_ptr<tbb::global_control>> thread_limit(int threads);
 
 /// Prints BVH work counters per receiver.
 void print_stats(const BackendStats& stats);

@@ -31,6 +31,9 @@ Result<api::Options> api_options(const QueryOptions& options, const api::SceneDa
   }
   Result<float> radius = parse_radius(options.rays.radius, bounds.diagonal());
   if (!radius) return std::unexpected(radius.error());
+  if (auto ok = check_radius(*radius, bounds.diagonal(), options.rays.offset.value_or(kDefaultOffsetFraction * bounds.diagonal())); !ok) {
+    return std::unexpected(ok.error());
+  }
   api::Options out;
   out.radius = *radius;
   out.samples = options.rays.samples;
@@ -39,7 +42,8 @@ Result<api::Options> api_options(const QueryOptions& options, const api::SceneDa
   if (!falloff) return std::unexpected(falloff.error());
   out.falloff = static_cast<api::Falloff>(static_cast<int>(*falloff));
   out.origin_offset = options.rays.offset;
-  out.threads = std::max(0, options.rays.threads);
+  if (auto ok = check_threads(options.rays.threads); !ok) return std::unexpected(ok.error());
+  out.threads = options.rays.threads;
   out.sidedness = options.scene.sided == "one" ? api::Sidedness::One
                   : options.scene.sided == "two" ? api::Sidedness::Two
                                                  : api::Sidedness::Auto;

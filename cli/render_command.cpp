@@ -46,6 +46,7 @@ AoImage to_image(const PixelReceivers& pixels, const MaskSet& masks, bool counts
 
 int run_render(const RenderOptions& options) {
   const auto threads = thread_limit(options.rays.threads);
+  if (!threads) return report(threads.error());
   if (auto ok = check_output(options.output, options.scene.scene); !ok) return report(ok.error());
   if (auto ok = check_output(options.png, options.scene.scene); !ok) return report(ok.error());
   Result<Method> method = parse_method(options.method.method);

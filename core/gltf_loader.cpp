@@ -30,6 +30,7 @@
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
+#include "core/gltf_guard.h"
 #include "core/gltf_model.h"
 #include "core/load_scene.h"
 
@@ -260,7 +261,9 @@ bool starts_with_glb_magic(const std::string& path) {
 Result<Scene> load(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) return fail("no such file");
+  if (auto ok = check_json_depth(path); !ok) return std::unexpected(ok.error());
   tinygltf::TinyGLTF context;
+  install_safe_file_access(context);
   context.SetImageLoader(&ignore_image, nullptr);
   tinygltf::Model model;
   std::string err;

@@ -1,6 +1,7 @@
 #include "core/image_io.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <exception>
@@ -46,7 +47,7 @@ Result<void> write_png_bytes(std::span<const std::uint8_t> pixels, int width, in
                              const std::string& path) {
   return write_atomically(path, [&](const std::string& temp) -> Result<void> {
     std::unique_ptr<FILE, int (*)(FILE*)> file(std::fopen(temp.c_str(), "wb"), std::fclose);
-    if (!file) return fail(path + ": cannot open for writing");
+    if (!file) return fail(path + ": cannot open for writing: " + system_reason());
     png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
     png_infop info = png ? png_create_info_struct(png) : nullptr;
     if (!png || !info) {
@@ -55,8 +56,10 @@ Result<void> write_png_bytes(std::span<const std::uint8_t> pixels, int width, in
     }
     // libpng reports errors by longjmp; nothing with a destructor is created below this point.
     if (setjmp(png_jmpbuf(png))) {
+      const int error = errno;  // libpng's fwrite failed, or libpng itself refused
       png_destroy_write_struct(&png, &info);
-      return fail(path + ": libpng failed to write the image");
+      errno = error;
+      return fail(path + ": cannot write the PNG: " + system_reason("libpng failed"));
     }
     png_init_io(png, file.get());
     const int colour = channels == 1   ? PNG_COLOR_TYPE_GRAY
@@ -72,7 +75,8 @@ Result<void> write_png_bytes(std::span<const std::uint8_t> pixels, int width, in
     }
     png_write_end(png, nullptr);
     png_destroy_write_struct(&png, &info);
-    if (std::fflush(file.get()) != 0) return fail(path + ": write failed");
+    if (std::fflush(file.get()) != 0) return fail(path + ": write failed: " + system_reason());
+    if (std::fclose(file.release()) != 0) return fail(path + ": write failed: " + system_reason());
     return {};
   });
 }
