@@ -5,12 +5,14 @@
 #include <cmath>
 #include <cstdio>
 #include <exception>
+#include <fstream>
 #include <memory>
 
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfFrameBuffer.h>
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfOutputFile.h>
+#include <OpenEXR/ImfStdIO.h>
 #include <png.h>
 
 #include "core/atomic_write.h"
@@ -19,7 +21,12 @@ namespace exao {
 
 Result<void> write_exr(const AoImage& image, const std::string& path) {
   return write_atomically(path, [&](const std::string& temp) -> Result<void> {
+    // The stream is ours so that its last, buffered bytes are checked: OpenEXR flushes in
+    // destructors, where a failed write (a full disk) would pass in silence.
+    std::ofstream stream(temp, std::ios::binary | std::ios::trunc);
+    if (!stream) return fail(path + ": cannot open for writing: " + system_reason());
     try {
+      Imf::StdOFStream out(stream, temp.c_str());
       Imf::Header header(image.width, image.height);
       header.channels().insert("Y", Imf::Channel(Imf::FLOAT));
       header.channels().insert("A", Imf::Channel(Imf::FLOAT));
@@ -33,12 +40,14 @@ Result<void> write_exr(const AoImage& image, const std::string& path) {
         frame.insert("blocked", Imf::Slice(Imf::UINT, (char*)image.blocked.data(), sizeof(std::uint32_t),
                                            sizeof(std::uint32_t) * static_cast<std::size_t>(image.width)));
       }
-      Imf::OutputFile file(temp.c_str(), header);
+      Imf::OutputFile file(out, header);
       file.setFrameBuffer(frame);
       file.writePixels(image.height);
     } catch (const std::exception& e) {
       return fail(path + ": cannot write OpenEXR: " + e.what());
     }
+    stream.close();
+    if (!stream) return fail(path + ": write failed: " + system_reason());
     return {};
   });
 }
