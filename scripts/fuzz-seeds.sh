@@ -14,7 +14,7 @@ if [ -d "$scenes" ]; then
   # AFL++ works best on small seeds; 64 KB keeps every mutation cheap.
   find "$scenes" -type f \( -name '*.glb' -o -path '*glTF-Embedded*' -name '*.gltf' \) -size -64k -print0 |
     while IFS= read -r -d '' f; do
-      cp "$f" "$out/gltf/real-$(basename "$(dirname "$(dirname "$f")")")-$(basename "$f")"
+      cp --no-preserve=mode "$f" "$out/gltf/real-$(basename "$(dirname "$(dirname "$f")")")-$(basename "$f")"
     done
 fi
 for d in "$out"/*/; do echo "seeds: $(ls "$d" | wc -l) in $d"; done

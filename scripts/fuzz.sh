@@ -35,6 +35,7 @@ export ASAN_OPTIONS="abort_on_error=1:symbolize=0:detect_leaks=0:allocator_may_r
 # campaign = target:extension:seed folder
 campaigns=(gltf:gltf:gltf soup:obj:obj soup:ply:ply soup:off:off soup:stl:stl points:txt:points-txt points:ply:points-ply)
 failed=0
+mkdir -p "$build/findings"
 printf '%-12s %10s %8s %8s %8s %8s\n' campaign execs exec/s corpus crashes hangs
 for c in "${campaigns[@]}"; do
   IFS=: read -r target ext seeds <<<"$c"
