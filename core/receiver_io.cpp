@@ -19,7 +19,7 @@
 namespace exao {
 namespace {
 
-constexpr const char* kBeyondLimit = "a coordinate is beyond +-1e17 (exao's limit, core/coordinate_limit.h)";
+constexpr const char* kBeyondLimit = "a coordinate is beyond +-1e17, the largest exao accepts";
 
 bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 

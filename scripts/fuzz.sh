@@ -65,8 +65,11 @@ for c in "${campaigns[@]}"; do
   for f in "$findings"/default/hangs/id:*; do
     [ -e "$f" ] || continue
     cp "$f" "$build/hang.$ext"
-    if ! timeout 30 "$build/tests/fuzz/exao_fuzz_$target" "$build/hang.$ext" >/dev/null 2>&1; then
-      [ $? -eq 124 ] && { echo "hang: $f (over 30 s alone)"; failed=1; }
+    rc=0
+    timeout 30 "$build/tests/fuzz/exao_fuzz_$target" "$build/hang.$ext" >/dev/null 2>&1 || rc=$?
+    if [ "$rc" -eq 124 ]; then
+      echo "hang: $f (over 30 s alone)"
+      failed=1
     fi
   done
 done

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include <sys/stat.h>
+#include <sys/sysmacros.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -241,6 +242,12 @@ TEST(HostileInput, OutputsThatAreFifosOrFoldersAreRefusedAndLeftAlone) {
   test::write_file(dir / "p.txt", "0 0 0 0 0 1\n");
   expect_one_line_error(exao("query --points " + (dir / "p.txt").string() + " -o " + (dir / "folder.txt").string()),
                         "is a folder");
+  // A device node (made here, a copy of /dev/full's numbers, when the test may: root in a
+  // container can) is refused the same way, never replaced by a regular file.
+  if (::mknod((dir / "full.exr").c_str(), S_IFCHR | 0600, makedev(1, 7)) == 0) {
+    expect_one_line_error(exao("render plane-pair -W 8 -H 8 -o " + (dir / "full.exr").string() + " --png ''"), "is a device");
+    EXPECT_TRUE(fs::is_character_file(dir / "full.exr"));
+  }
   // The library refuses them too, whoever calls it.
   bool called = false;
   const Result<void> written = write_atomically((dir / "pipe.exr").string(), [&](const std::string&) -> Result<void> {
