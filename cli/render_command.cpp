@@ -54,6 +54,7 @@ int run_render(const RenderOptions& options) {
   if (!view) return report(view.error());
   Result<engine::Engine> engine = engine::Engine::build(*scene, *engine_options, engine::Receivers::Pixels);
   if (!engine) return report(engine.error());
+  print_option_notes(*engine);
 
   engine::Stats stats;
   Result<engine::PixelResult> result;
