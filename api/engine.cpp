@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "api/boundary.h"
+#include "core/coordinate_limit.h"
 #include "core/load_scene.h"
 #include "core/mask.h"
 #include "core/receiver_frame.h"
@@ -177,6 +178,9 @@ constexpr std::array<std::pair<std::string_view, std::string_view>, 12> kOptionN
 // be a normal float for 1/sqrt to be finite and exact enough.
 [[nodiscard]] const char* receiver_problem(const Receiver& r) {
   if (!finite(r.position)) return "position is not finite";
+  if (!within_coordinate_limit(glm::vec3(r.position.x, r.position.y, r.position.z))) {
+    return "position is beyond +-1e17 (Embree cannot cast rays from there)";
+  }
   if (!finite(r.normal)) return "normal is not finite";
   const float len2 = r.normal.x * r.normal.x + r.normal.y * r.normal.y + r.normal.z * r.normal.z;
   if (!(len2 >= FLT_MIN && len2 <= FLT_MAX)) return "normal has zero length (or is too short or long to normalise)";

@@ -50,7 +50,7 @@ Result<void> write_bytes(const std::string& path, std::span<const std::uint8_t> 
     std::ofstream out(temp, std::ios::binary | std::ios::trunc);
     out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
     out.close();
-    if (!out) return fail(path + ": cannot write");
+    if (!out) return fail(path + ": cannot write: " + system_reason());
     return {};
   });
 }

@@ -293,6 +293,7 @@ int run_bake(const BakeCommandOptions& options) {
   if (!geometry) return report(geometry.error());
   Result<engine::Engine> engine = engine::Engine::build(*geometry, plan->engine, engine::Receivers::Points);
   if (!engine) return report(engine.error());
+  print_option_notes(*engine);
   std::optional<engine::Engine> other;
   if (plan->compare) {
     Result<engine::Engine> built = engine::Engine::build(*geometry, *plan->compare, engine::Receivers::Points);

@@ -173,6 +173,7 @@ int run_bench(const BenchOptions& options) {
   if (options.repeats < 1) return report(Error{"--repeats: must be at least 1, got " + std::to_string(options.repeats)});
   Result<engine::Options> base = make_options(options.scene, options.rays, options.method);
   if (!base) return report(base.error());
+  print_thread_note(base->threads);
   // Pixel receivers come from the scene as every command loads it; bake receivers from the
   // scene as the bake reads it (a glTF's default scene, or the soup converted with an atlas).
   const bool on_pixels = options.receivers == "pixels";
@@ -281,6 +282,8 @@ int run_bench(const BenchOptions& options) {
         if (!built) return report(built.error());
         engines.push_back(std::move(*built));
       }
+      // Each radius once: it does not depend on N.
+      if (n == options.samples.front()) print_ray_notes(engines.front());
       std::vector<BenchRun> runs(configs.size());
       std::vector<MaskSet> results(configs.size());
       // Interleaved repeats: drift of the machine hits every method alike; the fastest counts.

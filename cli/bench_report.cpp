@@ -19,7 +19,7 @@ Result<void> write_text(const std::string& text, const std::string& path) {
   return write_atomically(path, [&](const std::string& temp) -> Result<void> {
     std::ofstream out(temp);
     out << text;
-    if (!out.flush()) return fail(path + ": write failed");
+    if (!out.flush()) return fail(path + ": write failed: " + system_reason());
     return {};
   });
 }

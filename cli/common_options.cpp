@@ -1,9 +1,13 @@
 #include "cli/common_options.h"
 
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <thread>
 
+#include "core/coordinate_limit.h"
+#include "core/file_kind.h"
 #include "core/load_scene.h"
 
 namespace exao::cli {
@@ -63,7 +67,7 @@ void print_stats(const engine::Stats& stats) {
 
 void print_load_report(const std::string& name, const LoadReport& r) {
   if (r.zero_area_skipped) std::fprintf(stderr, "exao: %s: skipped %zu zero-area triangles of %zu\n", name.c_str(), r.zero_area_skipped, r.triangles_read);
-  if (r.non_finite_skipped) std::fprintf(stderr, "exao: %s: skipped %zu triangles with NaN or infinite vertices\n", name.c_str(), r.non_finite_skipped);
+  if (r.non_finite_skipped) std::fprintf(stderr, "exao: %s: skipped %zu triangles with NaN, infinite or huge (beyond +-1e17) vertices\n", name.c_str(), r.non_finite_skipped);
   for (const std::string& note : r.notes) std::fprintf(stderr, "exao: %s: %s\n", name.c_str(), note.c_str());
 }
 
@@ -130,26 +134,68 @@ Result<engine::Options> make_options(const SceneOptions& scene, const RayOptions
   return out;
 }
 
+void print_thread_note(int threads) {
+  const unsigned cores = std::thread::hardware_concurrency();
+  if (cores > 0 && threads > 0 && static_cast<unsigned>(threads) > cores) {
+    std::fprintf(stderr, "exao: note: --threads %d is more than the %u hardware threads of this machine\n", threads, cores);
+  }
+}
+
+void print_ray_notes(const engine::Engine& engine) {
+  const float radius = engine.radius();
+  const float offset = engine.origin_offset();
+  const float diagonal = engine.geometry().bounds().diagonal();
+  if (diagonal > 0.0f && radius > 10.0f * diagonal) {
+    std::fprintf(stderr, "exao: note: --radius %g is %.0f times the scene's diagonal (%g): every ray reaches across the whole scene\n",
+                 static_cast<double>(radius), static_cast<double>(radius / diagonal), static_cast<double>(diagonal));
+  } else if (radius <= offset) {
+    std::fprintf(stderr, "exao: note: --radius %g is not longer than the ray origin offset (%g): rays start beyond their own reach of the surface\n",
+                 static_cast<double>(radius), static_cast<double>(offset));
+  }
+}
+
+void print_option_notes(const engine::Engine& engine) {
+  print_thread_note(engine.options().threads);
+  print_ray_notes(engine);
+}
+
+namespace {
+
+// The camera a choice gave, unless Embree could not cast its rays (core/camera.h).
+Result<Camera> checked(Camera camera, const std::string& what) {
+  if (const std::string problem = camera_problem(camera); !problem.empty()) return fail(what + ": " + problem);
+  return camera;
+}
+
+}  // namespace
+
 Result<Camera> choose_camera(const CameraOptions& options, const Scene& scene) {
   if (!options.eye.empty() || !options.target.empty()) {
     if (options.eye.size() != 3 || options.target.size() != 3) return fail("--eye and --target: give both, as X,Y,Z");
     const glm::vec3 eye(options.eye[0], options.eye[1], options.eye[2]);
     const glm::vec3 target(options.target[0], options.target[1], options.target[2]);
-    if (glm::length(target - eye) <= 0.0f) return fail("--eye and --target: must be different points");
+    if (!within_coordinate_limit(eye)) return fail("--eye: each coordinate must be a finite number within +-1e17");
+    if (!within_coordinate_limit(target)) return fail("--target: each coordinate must be a finite number within +-1e17");
+    if (glm::length(glm::dvec3(target) - glm::dvec3(eye)) <= 0.0) return fail("--eye and --target: must be different points");
     if (!(options.fov > 0.0f && options.fov < 180.0f)) return fail("--fov: must be between 0 and 180 degrees");
-    return look_at(eye, target, options.fov);
+    return checked(look_at(eye, target, options.fov), "--eye and --target");
   }
   if (!options.camera.empty()) {
     for (const Camera& camera : scene.cameras) {
-      if (camera.name == options.camera) return camera;
+      if (camera.name == options.camera) return checked(camera, "--camera " + options.camera);
     }
-    const bool digits = options.camera.find_first_not_of("0123456789") == std::string::npos;
-    if (digits && std::stoul(options.camera) < scene.cameras.size()) return scene.cameras[std::stoul(options.camera)];
+    unsigned long long index = 0;
+    const char* first = options.camera.data();
+    const char* last = first + options.camera.size();
+    const auto [end, error] = std::from_chars(first, last, index);
+    if (error == std::errc() && end == last && index < scene.cameras.size()) {
+      return checked(scene.cameras[static_cast<std::size_t>(index)], "--camera " + options.camera);
+    }
     return fail("--camera: the scene has no camera '" + options.camera + "' (it has " + std::to_string(scene.cameras.size()) + ")");
   }
-  if (!scene.cameras.empty()) return scene.cameras.front();
+  if (!scene.cameras.empty()) return checked(scene.cameras.front(), "the scene's camera '" + scene.cameras.front().name + "'");
   const float aspect = static_cast<float>(options.width) / static_cast<float>(options.height.value_or(std::max(1, options.width * 3 / 4)));
-  return frame_bounds(scene.bounds(), aspect);
+  return checked(frame_bounds(scene.bounds(), aspect), "the view that frames the scene");
 }
 
 Result<int> image_height(const CameraOptions& options, const Camera& camera) {
@@ -177,6 +223,12 @@ Result<View> choose_view(const CameraOptions& options, const Scene& scene) {
 
 Result<void> check_output(const std::string& output, const std::string& input) {
   std::error_code ec;
+  // Refused now rather than after the work; write_atomically refuses it again (core/atomic_write.h).
+  if (std::filesystem::exists(std::filesystem::symlink_status(output, ec))) {
+    if (const std::string problem = not_a_regular_file(output); !problem.empty()) {
+      return fail(output + ": " + problem + "; refusing to replace it");
+    }
+  }
   if (std::filesystem::exists(input, ec) && std::filesystem::exists(output, ec) &&
       std::filesystem::equivalent(output, input, ec)) {
     return fail(output + ": is the input scene; refusing to overwrite it");

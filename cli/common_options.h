@@ -71,6 +71,15 @@ void print_load_report(const std::string& name, const LoadReport& report);
 [[nodiscard]] Result<engine::Options> make_options(const SceneOptions& scene, const RayOptions& rays,
                                                    const MethodOptions& method);
 
+/// Notes on stderr about settings that are legal but almost certainly not what was meant, once
+/// per command with the engine it built: print_thread_note and print_ray_notes.
+void print_option_notes(const engine::Engine& engine);
+/// A note when `threads` is more than the machine's hardware threads.
+void print_thread_note(int threads);
+/// A note when the engine's radius is over 10x the scene's diagonal, or not longer than the ray
+/// origin offset.
+void print_ray_notes(const engine::Engine& engine);
+
 /// --camera, else --eye/--target, else the file's first camera, else a view framing the scene.
 [[nodiscard]] Result<Camera> choose_camera(const CameraOptions& options, const Scene& scene);
 [[nodiscard]] Result<int> image_height(const CameraOptions& options, const Camera& camera);
@@ -83,7 +92,8 @@ struct View {
 };
 [[nodiscard]] Result<View> choose_view(const CameraOptions& options, const Scene& scene);
 
-/// Refuses an output path that names the input file (inputs are never overwritten).
+/// Refuses an output path that names the input file (inputs are never overwritten), or that
+/// exists and is not a regular file (a folder, device, FIFO or socket; symbolic links are followed).
 [[nodiscard]] Result<void> check_output(const std::string& output, const std::string& input);
 
 /// Prints the work counters: per receiver (bvh), and the culling stages (raster).

@@ -137,6 +137,7 @@ int run_compare(const CompareCommandOptions& o) {
   apply_sidedness(*scene, engine_options->sidedness);
   Result<engine::Engine> engine = engine::Engine::build(*scene, *engine_options, engine::Receivers::Points);
   if (!engine) return report(engine.error());
+  print_option_notes(*engine);
   const ShadowRays* rays = &engine->rays();
   Result<Camera> camera = choose_camera(o.camera, *scene);
   if (!camera) return report(camera.error());

@@ -35,6 +35,7 @@ int run_query(const QueryOptions& options) {
   if (!scene) return report(scene.error());
   Result<engine::Engine> engine = engine::Engine::build(*scene, *engine_options, engine::Receivers::Points);
   if (!engine) return report(engine.error());
+  print_option_notes(*engine);
 
   engine::Stats stats;
   Result<std::vector<float>> ao;

@@ -60,6 +60,7 @@ int run_render(const RenderOptions& options) {
   if (!view) return report(view.error());
   Result<engine::Engine> engine = engine::Engine::build(*scene, *engine_options, engine::Receivers::Pixels);
   if (!engine) return report(engine.error());
+  print_option_notes(*engine);
 
   // The G-buffer counts in the frame's time; the levels of detail, built once per scene and
   // radius, do not: they are built before the clock starts, and said.

@@ -1,6 +1,16 @@
 #pragma once
 // Outputs are written to a temporary file beside the target and renamed into place, so a
 // reader never sees a partial file and a failed run leaves the old file untouched.
+//
+// What may be replaced: a regular file, or nothing. An existing output that is a folder, a
+// device, a FIFO or a socket is refused (renaming over `/dev/full` as root would replace the
+// device node). A symbolic link is written through: the file it points to is replaced (the
+// temporary file sits beside that file) and the link stays; a link to anything but a regular
+// file (or to nothing) is refused.
+//
+// Temporary files are named `.NAME.exao-partial-PID`. A run that is killed outright (kill -9,
+// a power cut) cannot remove its own, so every write first removes those of NAME whose PID is
+// no longer a running process.
 
 #include <functional>
 #include <string>
@@ -9,13 +19,19 @@
 
 namespace exao {
 
-/// Calls `write(temp_path)`, then renames temp_path to `path`. On any failure the temporary
-/// file is removed and the error returned; a missing or unwritable folder is reported by name.
+/// Calls `write(temp_path)`, then renames temp_path into place. On any failure the temporary
+/// file is removed and the error returned; a missing or unwritable folder, or an output that
+/// is not a regular file, is reported by name before `write` is called.
 [[nodiscard]] Result<void> write_atomically(
     const std::string& path, const std::function<Result<void>(const std::string& temp_path)>& write);
 
 /// Removes every temporary file that write_atomically has not finished with; for a signal
 /// handler, so that an interrupted run leaves nothing behind. Async-signal-safe.
 void remove_unfinished_outputs();
+
+/// The system's reason for the last failed call, "File too large" or "No space left on
+/// device", for errors that must say why a write failed: strerror(errno), or `fallback` when
+/// errno is 0.
+[[nodiscard]] std::string system_reason(const char* fallback = "unknown error");
 
 }  // namespace exao

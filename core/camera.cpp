@@ -3,6 +3,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include <glm/gtc/constants.hpp>
+
+#include "core/coordinate_limit.h"
+
 namespace exao {
 
 Camera look_at(const glm::vec3& eye, const glm::vec3& target, float yfov_degrees) {
@@ -29,6 +33,19 @@ Camera frame_bounds(const Bounds& bounds, float aspect) {
   Camera camera = look_at(centre + distance * direction, centre, yfov_degrees);
   camera.name = "auto";
   return camera;
+}
+
+std::string camera_problem(const Camera& camera) {
+  const glm::vec3& e = camera.eye;
+  if (!(std::isfinite(e.x) && std::isfinite(e.y) && std::isfinite(e.z))) return "the eye is not a finite point";
+  if (!within_coordinate_limit(e)) return "the eye is beyond +-1e17 (exao's coordinate limit)";
+  const auto unit = [](const glm::vec3& v) {
+    const float length = glm::length(v);
+    return std::isfinite(length) && std::abs(length - 1.0f) < 1e-3f;
+  };
+  if (!unit(camera.forward) || !unit(camera.up)) return "the view direction is not finite (eye and target too far apart or too close)";
+  if (!(camera.yfov > 0.0f && camera.yfov < glm::pi<float>())) return "the field of view is not between 0 and 180 degrees";
+  return {};
 }
 
 glm::vec3 pixel_ray(const Camera& camera, int width, int height, int x, int y) {

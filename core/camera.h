@@ -28,6 +28,11 @@ struct Camera {
 /// (+X, +Y, +Z octant), far enough that the bounding sphere fits the narrower field of view.
 [[nodiscard]] Camera frame_bounds(const Bounds& bounds, float aspect);
 
+/// "" when Embree may be given rays from this camera, else why not: the eye must be within
+/// +-kMaxCoordinate (core/coordinate_limit.h), forward and up finite unit vectors, yfov in
+/// (0, pi). Embree (as Debian builds it) aborts the program on a ray it finds invalid.
+[[nodiscard]] std::string camera_problem(const Camera& camera);
+
 /// Unit direction of the ray through the centre of pixel (x, y) of a width x height image;
 /// y = 0 is the top row. The camera's aspect is ignored: pixels are square.
 [[nodiscard]] glm::vec3 pixel_ray(const Camera& camera, int width, int height, int x, int y);

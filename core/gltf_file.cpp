@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "core/gltf_compression.h"
+#include "core/gltf_guard.h"
 #include "core/gltf_model.h"
 
 namespace exao::gltf {
@@ -21,7 +22,10 @@ bool is_glb(const std::string& path) {
 Result<File> read_file(const std::string& path, tinygltf::LoadImageDataFunction images, void* user) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) return fail("no such file");
+  // Before any parser sees the JSON: tinygltf and the compression patch both recurse on it.
+  if (auto ok = check_json_depth(path); !ok) return std::unexpected(ok.error());
   tinygltf::TinyGLTF context;
+  install_safe_file_access(context);  // buffer and image URIs: regular files only
   context.SetImageLoader(images, user);
   File file;
   file.binary = is_glb(path);

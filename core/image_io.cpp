@@ -1,15 +1,18 @@
 #include "core/image_io.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <exception>
+#include <fstream>
 #include <memory>
 
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfFrameBuffer.h>
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfOutputFile.h>
+#include <OpenEXR/ImfStdIO.h>
 #include <png.h>
 
 #include "core/atomic_write.h"
@@ -18,7 +21,12 @@ namespace exao {
 
 Result<void> write_exr(const AoImage& image, const std::string& path) {
   return write_atomically(path, [&](const std::string& temp) -> Result<void> {
+    // The stream is ours so that its last, buffered bytes are checked: OpenEXR flushes in
+    // destructors, where a failed write (a full disk) would pass in silence.
+    std::ofstream stream(temp, std::ios::binary | std::ios::trunc);
+    if (!stream) return fail(path + ": cannot open for writing: " + system_reason());
     try {
+      Imf::StdOFStream out(stream, temp.c_str());
       Imf::Header header(image.width, image.height);
       header.channels().insert("Y", Imf::Channel(Imf::FLOAT));
       header.channels().insert("A", Imf::Channel(Imf::FLOAT));
@@ -32,12 +40,14 @@ Result<void> write_exr(const AoImage& image, const std::string& path) {
         frame.insert("blocked", Imf::Slice(Imf::UINT, (char*)image.blocked.data(), sizeof(std::uint32_t),
                                            sizeof(std::uint32_t) * static_cast<std::size_t>(image.width)));
       }
-      Imf::OutputFile file(temp.c_str(), header);
+      Imf::OutputFile file(out, header);
       file.setFrameBuffer(frame);
       file.writePixels(image.height);
     } catch (const std::exception& e) {
       return fail(path + ": cannot write OpenEXR: " + e.what());
     }
+    stream.close();
+    if (!stream) return fail(path + ": write failed: " + system_reason());
     return {};
   });
 }
@@ -46,7 +56,7 @@ Result<void> write_png_bytes(std::span<const std::uint8_t> pixels, int width, in
                              const std::string& path) {
   return write_atomically(path, [&](const std::string& temp) -> Result<void> {
     std::unique_ptr<FILE, int (*)(FILE*)> file(std::fopen(temp.c_str(), "wb"), std::fclose);
-    if (!file) return fail(path + ": cannot open for writing");
+    if (!file) return fail(path + ": cannot open for writing: " + system_reason());
     png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
     png_infop info = png ? png_create_info_struct(png) : nullptr;
     if (!png || !info) {
@@ -55,8 +65,10 @@ Result<void> write_png_bytes(std::span<const std::uint8_t> pixels, int width, in
     }
     // libpng reports errors by longjmp; nothing with a destructor is created below this point.
     if (setjmp(png_jmpbuf(png))) {
+      const int error = errno;  // libpng's fwrite failed, or libpng itself refused
       png_destroy_write_struct(&png, &info);
-      return fail(path + ": libpng failed to write the image");
+      errno = error;
+      return fail(path + ": cannot write the PNG: " + system_reason("libpng failed"));
     }
     png_init_io(png, file.get());
     const int colour = channels == 1   ? PNG_COLOR_TYPE_GRAY
@@ -72,7 +84,8 @@ Result<void> write_png_bytes(std::span<const std::uint8_t> pixels, int width, in
     }
     png_write_end(png, nullptr);
     png_destroy_write_struct(&png, &info);
-    if (std::fflush(file.get()) != 0) return fail(path + ": write failed");
+    if (std::fflush(file.get()) != 0) return fail(path + ": write failed: " + system_reason());
+    if (std::fclose(file.release()) != 0) return fail(path + ": write failed: " + system_reason());
     return {};
   });
 }

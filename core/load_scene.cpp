@@ -3,6 +3,8 @@
 
 #include "core/load_scene.h"
 
+#include "core/file_kind.h"
+
 #include <cctype>
 #include <filesystem>
 #include <string>
@@ -10,8 +12,8 @@
 namespace exao {
 
 Result<Scene> load_scene(const std::string& path) {
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) return fail(path + ": no such file");
+  // A folder or a FIFO is said to be one (and a FIFO is never opened: it would block).
+  if (const std::string problem = not_a_regular_file(path); !problem.empty()) return fail(path + ": " + problem);
   std::string ext = std::filesystem::path(path).extension().string();
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   if (ext == ".gltf" || ext == ".glb") return load_gltf(path);

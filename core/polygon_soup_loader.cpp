@@ -18,7 +18,9 @@
 
 #include <glm/glm.hpp>
 
+#include "core/file_kind.h"
 #include "core/load_scene.h"
+#include "core/soup_prescan.h"
 
 namespace exao {
 namespace {
@@ -98,85 +100,16 @@ std::string explain_obj_failure(const std::string& path) {
   return "not a readable OBJ file";
 }
 
-// CGAL's OFF reader sizes its arrays from the header's counts before reading a vertex, so a
-// corrupt count could ask for gigabytes (and its edge count is doubled in an int). Every
-// vertex, face and edge takes at least one byte, so counts beyond the file's size are
-// impossible and are refused here. Only the plain text header ("[ST][C][N][4]OFF", comments,
-// then the counts) is checked; other layouts are left to CGAL.
-std::string off_header_problem(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::vector<std::string> tokens;
-  std::string line;
-  while (tokens.size() < 4 && std::getline(in, line)) {
-    std::istringstream iss(line.substr(0, line.find('#')));
-    std::string token;
-    while (tokens.size() < 4 && iss >> token) tokens.push_back(token);
-  }
-  std::size_t first = 0;
-  if (!tokens.empty() && tokens[0].ends_with("OFF")) {
-    if (tokens[0].find('n') != std::string::npos) return {};  // nOFF: a dimension comes next
-    first = 1;
-  }
-  std::error_code ec;
-  const auto size = static_cast<long long>(std::filesystem::file_size(path, ec));
-  if (ec) return {};
-  for (std::size_t i = first; i < tokens.size() && i < first + 3; ++i) {
-    long long count = 0;
-    std::size_t used = 0;
-    try {
-      count = std::stoll(tokens[i], &used);
-    } catch (const std::exception&) {
-      return {};  // "BINARY", or something else for CGAL to judge
-    }
-    if (used != tokens[i].size()) return {};
-    if (count < 0 || count > size) {
-      return "header count " + tokens[i] + " does not fit in a file of " + std::to_string(size) +
-             " bytes";
-    }
-  }
-  return {};
-}
-
-// CGAL 5.5's PLY reader attaches each `property` line to the last `element` line without
-// checking there is one (a garbled header makes it crash), so the header's shape is checked
-// first: "ply", a format line, properties only after an element, and an end_header.
-std::string ply_header_problem(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::string line;
-  bool element_seen = false;
-  // A real header is a few dozen lines; this bounds the scan of a file that has no end_header.
-  constexpr std::size_t kMaxHeaderLines = 10'000;
-  for (std::size_t number = 1; number <= kMaxHeaderLines && std::getline(in, line); ++number) {
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    std::istringstream iss(line);
-    std::string keyword;
-    iss >> keyword;
-    const std::string where = "header line " + std::to_string(number);
-    if (number == 1) {
-      if (keyword != "ply") return "not a PLY file (no 'ply' signature)";
-    } else if (number == 2) {
-      if (keyword != "format") return where + ": expected 'format'";
-    } else if (keyword == "element") {
-      element_seen = true;
-    } else if (keyword == "property") {
-      if (!element_seen) return where + ": property before any element";
-    } else if (keyword == "end_header") {
-      return {};
-    }
-  }
-  return "PLY header has no end_header";
-}
-
 Result<Scene> load(const std::string& path) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) return fail("no such file");
+  if (const std::string problem = not_a_regular_file(path); !problem.empty()) return fail(problem);
   const std::string ext = lowercase_extension(path);
   if (ext != ".obj" && ext != ".ply" && ext != ".off" && ext != ".stl") {
     return fail("not an OBJ, PLY, OFF or STL file");
   }
 
-  const std::string problem = ext == ".off"   ? off_header_problem(path)
-                              : ext == ".ply" ? ply_header_problem(path)
+  // CGAL's OFF and PLY readers trust the counts a file states (core/soup_prescan.h).
+  const std::string problem = ext == ".off"   ? off_problem(path)
+                              : ext == ".ply" ? ply_problem(path)
                                               : std::string();
   if (!problem.empty()) return fail(problem);
 

@@ -12,9 +12,14 @@
 #include <CGAL/Simple_cartesian.h>
 
 #include "core/atomic_write.h"
+#include "core/coordinate_limit.h"
+#include "core/file_kind.h"
+#include "core/soup_prescan.h"
 
 namespace exao {
 namespace {
+
+constexpr const char* kBeyondLimit = "a coordinate is beyond +-1e17, the largest exao accepts";
 
 bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
@@ -47,6 +52,7 @@ Result<std::vector<Receiver>> load_text(const std::string& path) {
       if (fields >> extra) return fail(path + ": line " + std::to_string(number) + ": unexpected '" + extra + "'");
     }
     if (!finite(r.position) || !finite(r.normal)) return fail(path + ": line " + std::to_string(number) + ": NaN or infinite value");
+    if (!within_coordinate_limit(r.position)) return fail(path + ": line " + std::to_string(number) + ": " + kBeyondLimit);
     if (glm::dot(r.normal, r.normal) == 0.0f) return fail(path + ": line " + std::to_string(number) + ": zero normal");
     receivers.push_back(r);
   }
@@ -58,6 +64,8 @@ Result<std::vector<Receiver>> load_ply(const std::string& path) {
   CGAL::Point_set_3<Kernel::Point_3, Kernel::Vector_3> points;
   std::ifstream in(path, std::ios::binary);
   if (!in) return fail(path + ": cannot open");
+  // CGAL's PLY reader trusts the counts a file states (core/soup_prescan.h).
+  if (const std::string problem = ply_problem(path); !problem.empty()) return fail(path + ": " + problem);
   bool ok = false;
   try {
     ok = CGAL::IO::read_PLY(in, points);
@@ -75,6 +83,7 @@ Result<std::vector<Receiver>> load_ply(const std::string& path) {
                {static_cast<float>(n.x()), static_cast<float>(n.y()), static_cast<float>(n.z())},
                index};
     if (!finite(r.position) || !finite(r.normal)) return fail(path + ": vertex " + std::to_string(index) + ": NaN or infinite value");
+    if (!within_coordinate_limit(r.position)) return fail(path + ": vertex " + std::to_string(index) + ": " + kBeyondLimit);
     if (glm::dot(r.normal, r.normal) == 0.0f) return fail(path + ": vertex " + std::to_string(index) + ": zero normal");
     receivers.push_back(r);
     ++index;
@@ -85,8 +94,7 @@ Result<std::vector<Receiver>> load_ply(const std::string& path) {
 }  // namespace
 
 Result<std::vector<Receiver>> load_receivers(const std::string& path) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) return fail(path + ": no such file");
+  if (const std::string problem = not_a_regular_file(path); !problem.empty()) return fail(path + ": " + problem);
   std::string extension = std::filesystem::path(path).extension().string();
   for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   Result<std::vector<Receiver>> receivers = extension == ".ply" ? load_ply(path) : load_text(path);
@@ -97,11 +105,16 @@ Result<std::vector<Receiver>> load_receivers(const std::string& path) {
 Result<void> save_values(const std::vector<float>& values, const std::string& path) {
   return write_atomically(path, [&](const std::string& temp) -> Result<void> {
     std::FILE* file = std::fopen(temp.c_str(), "w");
-    if (!file) return fail(path + ": cannot open for writing");
-    for (const float v : values) std::fprintf(file, "%.9g\n", static_cast<double>(v));
-    const bool ok = std::fflush(file) == 0;
-    std::fclose(file);
-    if (!ok) return fail(path + ": write failed");
+    if (!file) return fail(path + ": cannot open for writing: " + system_reason());
+    bool ok = true;
+    for (const float v : values) ok = ok && std::fprintf(file, "%.9g\n", static_cast<double>(v)) > 0;
+    ok = ok && std::fflush(file) == 0;
+    std::string reason = ok ? std::string() : system_reason();
+    if (std::fclose(file) != 0 && ok) {
+      ok = false;
+      reason = system_reason();
+    }
+    if (!ok) return fail(path + ": write failed: " + reason);
     return {};
   });
 }

@@ -308,7 +308,7 @@ Result<void> save_sample_pattern(const SamplePattern& pattern, const std::string
       const glm::vec3 d = pattern.directions[i];
       out << d.x << ' ' << d.y << ' ' << d.z << ' ' << pattern.lengths[i] << '\n';
     }
-    if (!out.flush()) return fail(path + ": write failed");
+    if (!out.flush()) return fail(path + ": write failed: " + system_reason());
     return {};
   });
 }

@@ -1,5 +1,7 @@
 #include "core/scene.h"
 
+#include "core/coordinate_limit.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -15,10 +17,8 @@ Bounds Scene::bounds() const {
 bool Scene::add_triangle(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c,
                          bool is_two_sided, std::int32_t material_index) {
   ++report.triangles_read;
-  const auto finite = [](const glm::vec3& v) {
-    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-  };
-  if (!finite(a) || !finite(b) || !finite(c)) {
+  // Beyond the limit is as unusable as infinite: Embree would abort on rays from there.
+  if (!within_coordinate_limit(a) || !within_coordinate_limit(b) || !within_coordinate_limit(c)) {
     ++report.non_finite_skipped;
     return false;
   }

@@ -18,7 +18,7 @@ namespace exao {
 struct LoadReport {
   std::size_t triangles_read = 0;       // every triangle in the file, before any was skipped
   std::size_t zero_area_skipped = 0;    // exactly zero area: they block no ray
-  std::size_t non_finite_skipped = 0;   // a NaN or infinite vertex
+  std::size_t non_finite_skipped = 0;   // a NaN, infinite or huge (beyond +-1e17) vertex
   std::size_t primitives_skipped = 0;   // points and lines (glTF modes 0-3)
   std::vector<std::string> notes;       // one line each, for the user
 };
@@ -54,7 +54,8 @@ struct Scene {
     return m >= 0 && static_cast<std::size_t>(m) < material_opacity.size() ? material_opacity[static_cast<std::size_t>(m)] : 1.0f;
   }
 
-  /// Adds a triangle unless it has a non-finite vertex or exactly zero area; either case is
+  /// Adds a triangle unless it has a non-finite vertex (or one beyond kMaxCoordinate,
+  /// core/coordinate_limit.h) or exactly zero area; either case is
   /// counted in `report`. Returns whether it was added.
   bool add_triangle(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c, bool is_two_sided,
                     std::int32_t material_index);

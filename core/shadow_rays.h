@@ -3,7 +3,10 @@
 // receiver into exactly N rays (p', R_p w_i, l_i r). Every backend takes its rays from here.
 
 #include <cmath>
+#include <cstdio>
+#include <string>
 
+#include "core/coordinate_limit.h"
 #include "core/error.h"
 #include "core/receiver_frame.h"
 #include "core/sample_pattern.h"
@@ -23,14 +26,28 @@ struct ShadowRays {
   [[nodiscard]] int count() const { return pattern.count; }
 };
 
-/// Validates radius (finite, > 0) and offset (finite, >= 0) and bundles them with the pattern.
+namespace detail {
+// "1e+30" for an error message, rather than std::to_string's thirty-one digits.
+[[nodiscard]] inline std::string short_number(float value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", static_cast<double>(value));
+  return text;
+}
+}  // namespace detail
+
+/// Validates radius (finite, > 0) and offset (finite, >= 0), both at most kMaxCoordinate
+/// (core/coordinate_limit.h: Embree refuses longer rays), and bundles them with the pattern.
 [[nodiscard]] inline Result<ShadowRays> make_shadow_rays(SamplePattern pattern, float radius,
                                                          float origin_offset) {
   if (!(std::isfinite(radius) && radius > 0.0f)) {
     return fail("radius: must be a finite length > 0, got " + std::to_string(radius));
   }
+  if (radius > kMaxCoordinate) return fail("radius: " + detail::short_number(radius) + " is beyond exao's limit of 1e17");
   if (!(std::isfinite(origin_offset) && origin_offset >= 0.0f)) {
     return fail("origin_offset: must be a finite length >= 0, got " + std::to_string(origin_offset));
+  }
+  if (origin_offset > kMaxCoordinate) {
+    return fail("origin_offset: " + detail::short_number(origin_offset) + " is beyond exao's limit of 1e17");
   }
   return ShadowRays{std::move(pattern), radius, origin_offset};
 }

@@ -1,7 +1,9 @@
 #include "engine/options.h"
 
 #include <array>
+#include <algorithm>
 #include <cmath>
+#include <thread>
 
 #include "lut/plane_table.h"
 
@@ -45,6 +47,11 @@ Result<Method> parse_method(const std::string& name) {
   return fail("method: unknown method '" + name + "' (embree, brute, bvh or raster)");
 }
 
+int max_threads() {
+  // oneTBB's own ceiling (above it, it warns and ignores the request): 256, or 4x the cores.
+  return std::max(256, 4 * static_cast<int>(std::thread::hardware_concurrency()));
+}
+
 Result<void> check_options(const Options& o) {
   if (auto ok = check_sample_count(o.samples); !ok) return ok;
   if (!in_range(o.falloff, Falloff::Quadratic)) return fail("falloff: not a falloff, got " + number(static_cast<int>(o.falloff)));
@@ -54,7 +61,9 @@ Result<void> check_options(const Options& o) {
   if (!in_range(o.embree.rays, EmbreeRays::Packet16)) {
     return fail("embree.rays: not an Embree ray mode, got " + number(static_cast<int>(o.embree.rays)));
   }
-  if (o.threads < 0) return fail("threads: must be >= 0 (0: one per core), got " + number(o.threads));
+  if (o.threads < 0 || o.threads > max_threads()) {
+    return fail("threads: must be from 0 (one per core) to " + number(max_threads()) + ", got " + number(o.threads));
+  }
   if (o.table_resolution != 0) {
     if (auto ok = lut::check_table_resolution(o.table_resolution); !ok) return ok;
   }

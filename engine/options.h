@@ -58,7 +58,8 @@ struct Options {
   Method method = Method::Bvh;
   /// Where plane masks come from (brute, bvh, raster); embree casts rays and ignores it.
   lut::MaskMode masks = lut::MaskMode::Exact;  // faster than the table on every level measured (docs/speed.md)
-  /// Worker threads, >= 0; 0: one per core. The engine runs everything in a TBB arena of this size.
+  /// Worker threads, from 0 to max_threads(); 0: one per core. The engine runs everything in a
+  /// TBB arena of this size.
   int threads = 0;
   /// Plane table cells per side (masks = lut): 0 for the default for N, else lut::kMinTableResolution
   /// to lut::kMaxTableResolution.
@@ -76,6 +77,9 @@ struct Options {
   /// How Embree is asked (method embree, and the reference in comparisons).
   EmbreeOptions embree;
 };
+
+/// The most worker threads Options::threads may ask for: oneTBB's ceiling, 256 or 4x the cores.
+[[nodiscard]] int max_threads();
 
 /// Checks every field that does not depend on the scene (the radius and offset are checked once
 /// resolved, by make_shadow_rays); the error names the first bad field and its value. The one

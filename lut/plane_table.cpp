@@ -254,7 +254,7 @@ Result<void> PlaneTable::save(const std::string& path) const {
     std::ofstream out(temp, std::ios::binary | std::ios::trunc);
     out.write(header.data(), static_cast<std::streamsize>(header.size()));
     out.write(static_cast<const char*>(base_), static_cast<std::streamsize>(memory_bytes()));
-    if (!out.flush()) return fail(path + ": write failed");
+    if (!out.flush()) return fail(path + ": write failed: " + system_reason());
     return {};
   });
 }

@@ -78,7 +78,8 @@ typedef struct exao_options {
   exao_sidedness sidedness; /* default EXAO_SIDED_AUTO */
   exao_mask_mode mask_mode; /* default EXAO_MASKS_EXACT */
   float origin_offset;    /* eps, world units, >= 0; negative: 1e-4 of the diagonal (default -1) */
-  int threads;            /* worker threads of batch queries, >= 0; 0: one per core (default 0) */
+  int threads;            /* worker threads of batch queries, 0 to 256 (or 4x the cores); 0: one
+                             per core (default 0) */
   exao_backend backend;   /* default EXAO_BACKEND_BVH */
   int table_resolution;   /* look-up table cells per side, 0 (default for N) or [4, 256] */
   int bvh_branching;      /* 2 or 4 (default 4) */

@@ -254,8 +254,8 @@ enum class EmbreeRays : int { Single = 0, Packet4 = 1, Packet8 = 2, Packet16 = 3
 /// Engine settings. Every field has a default; Engine::build checks them all and names the
 /// first bad one in its error (InvalidArgument).
 struct Options {
-  /// r: the length of the longest shadow ray, world units, finite and > 0. nullopt: 5% of the
-  /// scene's bounding-box diagonal (the exao program's default).
+  /// r: the length of the longest shadow ray, world units, finite, > 0 and at most 1e17.
+  /// nullopt: 5% of the scene's bounding-box diagonal (the exao program's default).
   std::optional<float> radius;
   /// N: rays per receiver, a multiple of 32 in [32, 1024]. A mask holds N bits.
   int samples = 128;
@@ -264,10 +264,11 @@ struct Options {
   std::uint64_t pattern_seed = 0x65CA0;
   Sidedness sidedness = Sidedness::Auto;
   MaskMode mask_mode = MaskMode::Exact;
-  /// eps: rays start at p + eps * n/|n|, world units, finite and >= 0. nullopt: 1e-4 of the
-  /// scene's bounding-box diagonal. Lifts rays off the receiver's own surface.
+  /// eps: rays start at p + eps * n/|n|, world units, finite, >= 0 and at most 1e17. nullopt:
+  /// 1e-4 of the scene's bounding-box diagonal. Lifts rays off the receiver's own surface.
   std::optional<float> origin_offset;
-  /// Worker threads of batch queries (and of the build), >= 0; 0: one per core.
+  /// Worker threads of batch queries (and of the build), from 0 to 256 (or 4x the cores, if
+  /// more: oneTBB's ceiling); 0: one per core.
   int threads = 0;
   Backend backend = Backend::Bvh;
   /// Look-up table cells per side R (MaskMode::Lut), 0 or in [4, 256]: 0 picks the default
