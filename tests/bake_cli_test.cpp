@@ -27,27 +27,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct CommandResult {
-  int status;
-  std::string output;  // stdout and stderr together
-};
+using test::CommandResult;
 
-CommandResult run(const std::string& command) {
-  FILE* pipe = ::popen((command + " 2>&1").c_str(), "r");
-  std::string output;
-  std::array<char, 4096> buffer{};
-  while (pipe && std::fgets(buffer.data(), buffer.size(), pipe)) output += buffer.data();
-  const int status = pipe ? ::pclose(pipe) : -1;
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
-}
+CommandResult run(const std::string& command) { return test::run_command(command); }
 
 CommandResult exao(const std::string& arguments) { return run(std::string(EXAO_BINARY) + " " + arguments); }
 
-void expect_one_line_error(const CommandResult& result, const std::string& names) {
-  EXPECT_NE(result.status, 0) << result.output;
-  EXPECT_EQ(std::count(result.output.begin(), result.output.end(), '\n'), 1) << result.output;
-  EXPECT_NE(result.output.find(names), std::string::npos) << result.output;
-}
+using test::expect_one_line_error;
 
 std::set<std::string> files_in(const fs::path& dir) {
   std::set<std::string> out;

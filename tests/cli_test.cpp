@@ -17,12 +17,7 @@ using test::CommandResult;
 
 CommandResult exao(const std::string& arguments) { return test::run_command(std::string(EXAO_BINARY) + " " + arguments); }
 
-// One line, naming what was wrong.
-void expect_one_line_error(const CommandResult& run, const std::string& names) {
-  EXPECT_NE(run.status, 0) << run.output;
-  EXPECT_EQ(std::count(run.output.begin(), run.output.end(), '\n'), 1) << run.output;
-  EXPECT_NE(run.output.find(names), std::string::npos) << run.output;
-}
+using test::expect_one_line_error;
 
 std::size_t files_in(const std::filesystem::path& dir) {
   return static_cast<std::size_t>(std::distance(std::filesystem::directory_iterator(dir), {}));

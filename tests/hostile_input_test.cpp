@@ -30,30 +30,15 @@
 namespace exao {
 namespace {
 
-namespace fs = std::filesystem;
+using test::CommandResult;
+using test::expect_one_line_error;
 
-struct CommandResult {
-  int status;
-  std::string output;  // stdout and stderr together
-};
-
-// Runs `prefix exao arguments` through /bin/sh; `prefix` may set limits (ulimit) first.
 CommandResult exao(const std::string& arguments, const std::string& prefix = "") {
-  const std::string command = prefix + "exec " + std::string(EXAO_BINARY) + " " + arguments + " 2>&1";
-  FILE* pipe = ::popen(command.c_str(), "r");
-  std::string output;
-  std::array<char, 4096> buffer{};
-  while (pipe && std::fgets(buffer.data(), buffer.size(), pipe)) output += buffer.data();
-  const int status = pipe ? ::pclose(pipe) : -1;
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
+  return test::run_exao(EXAO_BINARY, arguments, prefix);
 }
 
-// One line, naming what was wrong, and a plain exit (not a signal: -1).
-void expect_one_line_error(const CommandResult& run, const std::string& names) {
-  EXPECT_GT(run.status, 0) << run.output;
-  EXPECT_EQ(std::count(run.output.begin(), run.output.end(), '\n'), 1) << run.output;
-  EXPECT_NE(run.output.find(names), std::string::npos) << "expected '" << names << "' in: " << run.output;
-}
+
+namespace fs = std::filesystem;
 
 void expect_error(const Result<Scene>& scene, const std::string& names) {
   ASSERT_FALSE(scene.has_value()) << "loaded " << scene->triangle_count() << " triangles";

@@ -33,6 +33,12 @@
 namespace exao::raster {
 namespace {
 
+using test::CommandResult;
+using test::expect_one_line_error;
+
+CommandResult exao(const std::string& arguments) { return test::run_exao(EXAO_BINARY, arguments); }
+
+
 // A finely tessellated wavy sheet and a closed sphere: surfaces that simplify well, with a
 // border (the sheet) and without (the sphere).
 Scene make_lod_scene(bool two_sided, int grid = 32) {
@@ -333,27 +339,6 @@ TEST(RasterLodEngine, OnlyTheRasterMethodTakesLevelsOfDetail) {
 }
 
 // --- The command line ------------------------------------------------------------------------
-
-struct CommandResult {
-  int status;
-  std::string output;
-};
-
-CommandResult exao(const std::string& arguments) {
-  const std::string command = std::string(EXAO_BINARY) + " " + arguments + " 2>&1";
-  FILE* pipe = ::popen(command.c_str(), "r");
-  std::string output;
-  std::array<char, 4096> buffer{};
-  while (pipe && std::fgets(buffer.data(), buffer.size(), pipe)) output += buffer.data();
-  const int status = pipe ? ::pclose(pipe) : -1;
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
-}
-
-void expect_one_line_error(const CommandResult& run, const std::string& names) {
-  EXPECT_NE(run.status, 0) << run.output;
-  EXPECT_EQ(std::count(run.output.begin(), run.output.end(), '\n'), 1) << run.output;
-  EXPECT_NE(run.output.find(names), std::string::npos) << run.output;
-}
 
 TEST(RasterLodCli, BadOptionsGetOneLine) {
   test::TempDir dir;

@@ -1,5 +1,9 @@
 #include "tests/test_support.h"
 
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
 #include <array>
 #include <atomic>
 #include <cstdio>
@@ -32,6 +36,16 @@ TempDir::~TempDir() {
 void write_file(const std::filesystem::path& path, const std::string& contents) {
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
   out << contents;
+}
+
+CommandResult run_exao(const std::string& binary, const std::string& arguments, const std::string& prefix) {
+  return run_command(prefix + "exec " + binary + " " + arguments);
+}
+
+void expect_one_line_error(const CommandResult& run, const std::string& names) {
+  EXPECT_GT(run.status, 0) << run.output;
+  EXPECT_EQ(std::count(run.output.begin(), run.output.end(), '\n'), 1) << run.output;
+  EXPECT_NE(run.output.find(names), std::string::npos) << "expected '" << names << "' in: " << run.output;
 }
 
 CommandResult run_command(const std::string& command) {

@@ -35,6 +35,13 @@ struct CommandResult {
 /// Runs a shell command, collecting what it prints.
 [[nodiscard]] CommandResult run_command(const std::string& command);
 
+/// Runs `prefix exec EXAO_BINARY arguments` (prefix may set limits, e.g. ulimit) through /bin/sh.
+[[nodiscard]] CommandResult run_exao(const std::string& binary, const std::string& arguments,
+                                     const std::string& prefix = "");
+
+/// The bad-input contract: a plain non-zero exit (not a signal), one line, naming `names`.
+void expect_one_line_error(const CommandResult& run, const std::string& names);
+
 }  // namespace exao::test
 
 #define EXAO_REQUIRE_SCENE(path)                                                     \
