@@ -84,6 +84,7 @@ constexpr std::array<std::pair<std::string_view, std::string_view>, 12> kOptionN
                : o.backend == Backend::Brute  ? engine::Method::Brute
                : o.backend == Backend::Embree ? engine::Method::Embree
                : o.backend == Backend::Raster ? engine::Method::Raster
+               : o.backend == Backend::Auto   ? engine::Method::Auto
                                               : static_cast<engine::Method>(-1);  // refused by check_options
   out.masks = static_cast<lut::MaskMode>(static_cast<int>(o.mask_mode));
   out.threads = o.threads;

@@ -207,7 +207,12 @@ Result<Bvh> Bvh::build(const lut::TriangleSet& triangles, const BvhOptions& opti
   if (!error.empty()) return fail(error);
   bvh.triangles = permuted(triangles, bvh.scene_triangle);
   bvh.packed.resize(bvh.triangles.size());
-  for (std::size_t t = 0; t < bvh.packed.size(); ++t) bvh.packed[t] = bvh.triangles.packed(t);
+  for (std::size_t t = 0; t < bvh.packed.size(); ++t) {
+    bvh.packed[t] = bvh.triangles.packed(t);
+    for (const glm::vec3& v : {bvh.packed[t].v0, bvh.packed[t].v1, bvh.packed[t].v2}) {
+      bvh.largest_coordinate = std::max({bvh.largest_coordinate, std::abs(v.x), std::abs(v.y), std::abs(v.z)});
+    }
+  }
   return bvh;
 }
 

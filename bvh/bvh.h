@@ -41,6 +41,7 @@ struct Bvh {
   lut::TriangleSet triangles;       // in leaf order: leaf triangles are contiguous
   std::vector<lut::PackedTriangle, lut::CacheLineAllocator<lut::PackedTriangle>> packed;  // the same, a cache line each
   std::vector<std::uint32_t> scene_triangle;  // index in the scene of triangles[i]
+  float largest_coordinate = 0.0f;             // max |coordinate| of every vertex (the grazing margin's scale)
 
   /// Builds over `triangles` (copied in leaf order: the floats are the same, so every mask
   /// equals brute's). Fails on an empty set or an Embree error.

@@ -8,9 +8,19 @@
 // the leaf's mask: the nesting of lut/sphere_test.h). Since blocked only grows, what was full or
 // outside the leaf's mask when the mask was computed stays irrelevant when it is used.
 
-template <int Bits, bool Stats>
+// Two modes, one loop (template parameter Certain):
+//  - pure (the paper's method, `bvh`): the cumulative mask ORs triangle_mask, bit for bit brute's;
+//  - certain (`auto`): the cumulative mask ORs the *sure* masks of triangle_certain, the rays the
+//    *maybe* masks add are collected as undecided, and a MaskBudget stops the masks when they
+//    no longer pay: the caller casts the undecided rays (every open ray of a stopped receiver)
+//    with Embree (bvh/hybrid.h). Node spheres are grown by g, as the triangles' are, so that a
+//    node's mask still holds every maybe bit below it (the nesting of lut/sphere_test.h holds for
+//    spheres grown by the same length), and the box culls use a slack of at least g.
+
+template <int Bits, bool Stats, bool Certain>
 [[nodiscard]] Mask<Bits> traverse_receiver(const Bvh& bvh, const lut::MaskEngine& engine, const Frame& frame,
-                                           TraversalStats* stats) {
+                                           TraversalStats* stats, const MaskBudget* budget,
+                                           HybridOutcome<Bits>* outcome) {
   const lut::KernelContext& ctx = engine.kernel_context();
   lut::KernelCounters* counters = Stats ? &stats->kernels : nullptr;
   const int n_rays = engine.samples();
@@ -20,8 +30,39 @@ template <int Bits, bool Stats>
   const glm::vec3 o = frame.origin;
   const glm::vec3 n = frame.normal;
   // Float slack for the world-space tests below, which triangle_mask computes differently.
-  const float slack = engine.reach_slack(o, 0.0f);
+  float slack = engine.reach_slack(o, 0.0f);
+  // Certain: g = 2 delta of core/grazing.h, delta from the largest coordinate of the origin and
+  // of the whole scene (an upper bound of every triangle's), rounded up.
+  float g = 0.0f;
+  if constexpr (Certain) {
+    const float largest = std::max({std::abs(o.x), std::abs(o.y), std::abs(o.z), bvh.largest_coordinate});
+    g = static_cast<float>(2.0 * kGrazingUlps * 0x1p-24) * (largest + r) * (1.0f + 1e-3f);
+    slack = std::max(slack, 2.0f * g);
+  }
   const float reach2 = (r + slack) * (r + slack);
+  [[maybe_unused]] Mask<Bits> maybe;
+  [[maybe_unused]] std::uint32_t units = 0;
+  [[maybe_unused]] const float rays_per_unit = budget ? budget->rays_per_unit : 0.0f;
+  [[maybe_unused]] const float allowance = budget ? budget->allowance : 0.0f;
+  // The cost model (Certain, with a budget): stop when the work spent, in Embree rays, exceeds
+  // the rays decided so far plus the allowance.
+  const auto over_budget = [&]() {
+    if constexpr (!Certain) {
+      return false;
+    } else {
+      if (!budget) return false;
+      const float spent = static_cast<float>(units) * rays_per_unit;
+      return spent > allowance && spent > static_cast<float>(blocked.popcount()) + allowance;
+    }
+  };
+  const auto finish = [&](bool complete) {
+    if constexpr (Certain) {
+      outcome->units = units;
+      outcome->complete = complete;
+      outcome->undecided = complete ? and_not(maybe, blocked) : and_not(all, blocked);
+    }
+    return blocked;
+  };
 
   alignas(64) detail::StackEntry<Bits> stack[detail::kStackSize];
   int top = 0;
@@ -31,6 +72,10 @@ template <int Bits, bool Stats>
   while (true) {
     const Node& node = bvh.nodes[node_index];
     if constexpr (Stats) ++stats->nodes_visited;
+    if constexpr (Certain) {
+      ++units;
+      if (over_budget()) return finish(false);
+    }
     const std::uint64_t open = lut::open_clusters(blocked, n_rays);
 
     // Cull and estimate every child of the node.
@@ -51,7 +96,7 @@ template <int Bits, bool Stats>
       const float top_height = glm::dot(mid - o, n) + glm::dot(half, glm::abs(n));
       if (top_height < -slack) continue;
       const glm::vec3 centre = frame.to_local(glm::vec3(node.centre_x[k], node.centre_y[k], node.centre_z[k]));
-      child_mask[k] = region_mask<Bits>(ctx, centre, node.radius[k], lut::kNodeMargin, open, counters);
+      child_mask[k] = region_mask<Bits>(ctx, centre, node.radius[k] + g, lut::kNodeMargin, open, counters);
       estimate[k] = popcount_and_not(child_mask[k], blocked);
       if (estimate[k] == 0) continue;
       order[survivors++] = k;
@@ -79,7 +124,14 @@ template <int Bits, bool Stats>
       }
       std::uint64_t allowed = lut::occupied_clusters(wanted);
       for (std::uint32_t t = entry.child; t < entry.child + entry.leaf_size; ++t) {
-        const Mask<Bits> m = triangle_mask<Bits>(ctx, bvh.packed[t], frame, allowed, counters);
+        Mask<Bits> m;
+        if constexpr (Certain) {
+          const CertainMasks<Bits> both = triangle_certain<Bits>(ctx, bvh.packed[t], frame, g, allowed, counters);
+          m = both.sure;
+          maybe |= both.maybe;
+        } else {
+          m = triangle_mask<Bits>(ctx, bvh.packed[t], frame, allowed, counters);
+        }
         if constexpr (Stats) {
           ++stats->triangles_tested;
           if (popcount_and_not(m, blocked) > 0) ++stats->triangles_blocking;
@@ -89,8 +141,12 @@ template <int Bits, bool Stats>
         allowed &= lut::open_clusters(blocked, n_rays);
         if (!allowed) break;
       }
-      if (blocked == all) return blocked;
+      if (blocked == all) return finish(true);
+      if constexpr (Certain) {
+        units += entry.leaf_size;
+        if (over_budget()) return finish(false);
+      }
     }
-    if (!descended) return blocked;
+    if (!descended) return finish(true);
   }
 }

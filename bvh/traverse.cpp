@@ -27,7 +27,17 @@ std::string format_stats(const TraversalStats& t, Isa isa) {
                 static_cast<double>(t.triangles_blocking) / n, static_cast<double>(t.kernels.triangle_masks) / n,
                 static_cast<double>(t.kernels.sphere_masks) / n, vectors / n, isa_name(isa),
                 static_cast<double>(t.kernels.near_samples) / n);
-  return line;
+  std::string out = line;
+  if (t.rays > 0) {
+    std::snprintf(line, sizeof line,
+                  "auto: %.2f%% of rays decided by masks, %.2f%% cast with Embree; masks stopped by the cost model on "
+                  "%.1f%% of receivers\n",
+                  100.0 * static_cast<double>(t.rays - t.rays_cast) / static_cast<double>(t.rays),
+                  100.0 * static_cast<double>(t.rays_cast) / static_cast<double>(t.rays),
+                  100.0 * static_cast<double>(t.receivers_stopped) / n);
+    out += line;
+  }
+  return out;
 }
 
 }  // namespace exao::bvh

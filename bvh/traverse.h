@@ -33,6 +33,10 @@ struct TraversalStats {
   std::uint64_t triangles_tested = 0;    // triangle_mask calls
   std::uint64_t triangles_blocking = 0;  // triangles that blocked at least one new ray
   lut::KernelCounters kernels;           // plane tests, sphere masks, clusters evaluated
+  // The auto method (bvh/hybrid.h):
+  std::uint64_t rays = 0;                // rays of its receivers (receivers x N)
+  std::uint64_t rays_cast = 0;           // ... of which Embree cast (the rest the masks decided)
+  std::uint64_t receivers_stopped = 0;   // receivers whose masks the cost model stopped
 
   TraversalStats& operator+=(const TraversalStats& o) {
     receivers += o.receivers;
@@ -40,8 +44,29 @@ struct TraversalStats {
     triangles_tested += o.triangles_tested;
     triangles_blocking += o.triangles_blocking;
     kernels += o.kernels;
+    rays += o.rays;
+    rays_cast += o.rays_cast;
+    receivers_stopped += o.receivers_stopped;
     return *this;
   }
+};
+
+/// The cost model of the `auto` method for one receiver (bvh/hybrid.h sets it). Mask work is
+/// counted in units (one node's children, or one leaf triangle); the masks stop once
+///   units * rays_per_unit > allowance  and  units * rays_per_unit > (rays decided) + allowance,
+/// i.e. when what they cost, in Embree rays, exceeds what they have repaid by more than the
+/// allowance. Infinite allowance: masks to the end; zero rays_per_unit: the same.
+struct MaskBudget {
+  float rays_per_unit = 0.0f;
+  float allowance = 0.0f;
+};
+
+/// What a certain traversal leaves to Embree.
+template <int Bits>
+struct HybridOutcome {
+  Mask<Bits> undecided;     // the rays to cast: all open rays when stopped, else the grazing ones
+  std::uint32_t units = 0;  // mask work spent (MaskBudget's units)
+  bool complete = false;    // the traversal ran to the end (or every ray was blocked)
 };
 
 namespace detail {
@@ -60,8 +85,12 @@ inline constexpr int kStackSize = 64 * (kMaxChildren - 1) + 2;
 
 template <int Bits>
 struct TraverseFunctions {
-  Mask<Bits> (*plain)(const Bvh&, const lut::MaskEngine&, const Frame&, TraversalStats*);
-  Mask<Bits> (*counted)(const Bvh&, const lut::MaskEngine&, const Frame&, TraversalStats*);
+  using Function = Mask<Bits> (*)(const Bvh&, const lut::MaskEngine&, const Frame&, TraversalStats*,
+                                  const MaskBudget*, HybridOutcome<Bits>*);
+  Function plain;
+  Function counted;
+  Function certain;          // the sure mask; the rest in *outcome
+  Function certain_counted;
 };
 
 struct TraverseTable {
@@ -94,7 +123,19 @@ template <int Bits, bool Stats>
 [[nodiscard]] Mask<Bits> traverse(const Bvh& bvh, const lut::MaskEngine& engine, const Frame& frame,
                                   TraversalStats* stats) {
   const TraverseFunctions<Bits>& f = traverse_table(engine.isa()).template get<Bits>();
-  return (Stats ? f.counted : f.plain)(bvh, engine, frame, stats);
+  return (Stats ? f.counted : f.plain)(bvh, engine, frame, stats, nullptr, nullptr);
+}
+
+/// The certain traversal of the `auto` method (bvh/traverse-inl.h): returns the rays blocked for
+/// sure (Embree's answer on each of them) and puts in *outcome the rays the caller must cast with
+/// Embree; every other ray is open in Embree's answer too. budget == nullptr: masks to the end.
+/// Exact masks only (engine.mode() == Exact).
+template <int Bits, bool Stats>
+[[nodiscard]] Mask<Bits> traverse_certain(const Bvh& bvh, const lut::MaskEngine& engine, const Frame& frame,
+                                          TraversalStats* stats, const MaskBudget* budget,
+                                          HybridOutcome<Bits>& outcome) {
+  const TraverseFunctions<Bits>& f = traverse_table(engine.isa()).template get<Bits>();
+  return (Stats ? f.certain_counted : f.certain)(bvh, engine, frame, stats, budget, &outcome);
 }
 
 namespace scalar_lanes { const TraverseTable& traverse_table(); }

@@ -9,6 +9,7 @@
 #include <immintrin.h>
 
 #include "bvh/traverse.h"
+#include "core/grazing.h"
 #include "core/surface_rule.h"
 #include "lut/mask_kernels.h"
 #include "lut/sphere_test.h"
@@ -31,6 +32,7 @@ using lut::kTriangleMargin;
 using lut::make_sphere_test;
 using lut::occupied_clusters;
 using lut::origin_triangle_distance2;
+using lut::kClusterSlack;
 
 #include "lut/lanes-inl.h"
 #include "lut/kernels-inl.h"
@@ -40,7 +42,8 @@ namespace {
 
 template <int Bits>
 constexpr TraverseFunctions<Bits> functions() {
-  return {&traverse_receiver<Bits, false>, &traverse_receiver<Bits, true>};
+  return {&traverse_receiver<Bits, false, false>, &traverse_receiver<Bits, true, false>,
+          &traverse_receiver<Bits, false, true>, &traverse_receiver<Bits, true, true>};
 }
 
 }  // namespace

@@ -33,7 +33,7 @@ struct BenchOptions {
   MethodOptions method;
   std::vector<int> samples{128, 1024};
   std::vector<std::string> radii{"1%", "5%"};
-  std::vector<std::string> methods{"embree", "bvh"};
+  std::vector<std::string> methods{"embree", "auto", "bvh"};
   std::vector<std::string> masks{"lut", "exact"};
   std::vector<std::string> embree_rays{"packet16"};
   std::vector<std::string> isas{"auto"};
@@ -146,6 +146,7 @@ Result<BenchLists> parse_lists(const BenchOptions& options, const engine::Option
   }
   for (const engine::Method m : out.methods) {
     for (const lut::MaskMode mode : out.modes) {
+      if (m == engine::Method::Auto && mode != lut::MaskMode::Exact) continue;  // one exact row
       engine::Options o = base;
       o.method = m;
       o.masks = mode;
@@ -266,6 +267,8 @@ int run_bench(const BenchOptions& options) {
       for (const engine::Method m : lists->methods) {
         if (m == engine::Method::Embree) continue;
         for (const lut::MaskMode mode : lists->modes) {
+          // auto has exact masks only: one row, whatever --masks lists.
+          if (m == engine::Method::Auto && mode != lut::MaskMode::Exact) continue;
           for (const Isa isa : lists->isas) configs.push_back({m, mode, EmbreeRays::Single, isa});
         }
       }
@@ -404,7 +407,10 @@ Command add_bench_command(CLI::App& app) {
   add_camera_options(*command, options->camera);
   command->add_option("-n,--samples", options->samples, "Rays per receiver, a list: 128,1024")->delimiter(',')->capture_default_str();
   command->add_option("-r,--radius", options->radii, "Radii, a list of lengths or percentages: 1%,5%")->delimiter(',')->capture_default_str();
-  command->add_option("--methods", options->methods, "Methods to time besides embree: brute, bvh, raster (raster on Embree's pixel receivers)")->delimiter(',')->capture_default_str();
+  command->add_option("--methods", options->methods, "Methods to time besides embree: auto, brute, bvh, raster (raster on Embree's pixel receivers)")->delimiter(',')->capture_default_str();
+  command->add_option("--hybrid", options->method.hybrid,
+                      "auto's split: adaptive (its cost model), masks (masks to the end) or rays (Embree only)")
+      ->capture_default_str();
   command->add_option("--masks", options->masks, "Mask modes, a list: lut,exact")->delimiter(',')->capture_default_str();
   command->add_option("--falloff", options->rays.falloff, "constant, linear or quadratic")->capture_default_str();
   command->add_option("--offset", options->rays.offset, "Ray origin offset (default 1e-4 of the diagonal)");

@@ -41,7 +41,12 @@ void add_camera_options(CLI::App& app, CameraOptions& options) {
 
 void add_method_options(CLI::App& app, MethodOptions& options) {
   app.add_option("--method", options.method,
-                 "bvh (BVH traversal), raster (rasterization, camera views), brute (every triangle) or embree (rays)")
+                 "auto (masks, then Embree for the rays masks do not decide cheaply: Embree's answer on every ray), "
+                 "bvh (the paper's BVH traversal alone), raster (rasterization, camera views), brute (every triangle) "
+                 "or embree (rays)")
+      ->capture_default_str();
+  app.add_option("--hybrid", options.hybrid,
+                 "auto: adaptive (its cost model), masks (masks to the end) or rays (Embree only); the same answer")
       ->capture_default_str();
   app.add_option("--masks", options.masks, "Plane masks from the look-up table (lut) or exact tests (exact)")
       ->capture_default_str();
@@ -116,6 +121,9 @@ Result<engine::Options> make_options(const SceneOptions& scene, const RayOptions
   Result<engine::Method> m = engine::parse_method(method.method);
   if (!m) return std::unexpected(m.error());
   out.method = *m;
+  Result<bvh::HybridPolicy> hybrid = bvh::parse_hybrid_policy(method.hybrid);
+  if (!hybrid) return std::unexpected(hybrid.error());
+  out.hybrid = *hybrid;
   Result<lut::MaskMode> masks = lut::parse_mask_mode(method.masks);
   if (!masks) return std::unexpected(masks.error());
   out.masks = *masks;

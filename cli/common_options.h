@@ -41,6 +41,7 @@ struct CameraOptions {
 // Defaults are the engine's (engine::Options), as text.
 struct MethodOptions {
   std::string method = engine::method_name(engine::Options{}.method);
+  std::string hybrid = bvh::hybrid_policy_name(engine::Options{}.hybrid);
   std::string masks = lut::mask_mode_name(engine::Options{}.masks);
   std::string embree_rays = embree_rays_name(engine::Options{}.embree.rays);
   bool embree_per_receiver = !engine::Options{}.embree.across_receivers;

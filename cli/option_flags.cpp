@@ -6,7 +6,7 @@
 namespace exao::cli {
 namespace {
 
-constexpr std::array<std::pair<std::string_view, std::string_view>, 27> kFlags{{
+constexpr std::array<std::pair<std::string_view, std::string_view>, 28> kFlags{{
     // engine::Options
     {"radius", "--radius"},
     {"samples", "--samples"},
@@ -15,6 +15,7 @@ constexpr std::array<std::pair<std::string_view, std::string_view>, 27> kFlags{{
     {"sidedness", "--sided"},
     {"method", "--method"},
     {"masks", "--masks"},
+    {"hybrid", "--hybrid"},
     {"threads", "--threads"},
     {"table_resolution", "--table-resolution"},
     {"bvh.branching", "--branching"},

@@ -5,6 +5,7 @@
 #include <xmmintrin.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <mutex>
@@ -218,6 +219,51 @@ void cast_single(RTCScene scene, const ShadowRays& rays, std::span<const Receive
 }
 
 }  // namespace
+
+std::size_t EmbreeScene::occlude_selected(const ShadowRays& rays, std::span<const Frame> frames,
+                                          std::span<const std::uint64_t> wanted, std::size_t words,
+                                          std::span<std::uint64_t> blocked) const {
+  constexpr int K = 16;
+  flush_denormals();
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  alignas(64) int valid[K];
+  alignas(64) RTCRay16 packet;
+  const int n = rays.count();
+  std::size_t cast = 0;
+  for (std::size_t first = 0; first < frames.size(); first += K) {
+    const int lanes = static_cast<int>(std::min<std::size_t>(K, frames.size() - first));
+    // The samples any lane wants: the OR of the group's rows, walked by bit scans.
+    std::uint64_t any[16] = {};
+    const std::size_t row_words = std::min<std::size_t>(words, 16);
+    for (int lane = 0; lane < lanes; ++lane) {
+      for (std::size_t w = 0; w < row_words; ++w) any[w] |= wanted[(first + lane) * words + w];
+    }
+    for (std::size_t w = 0; w < row_words; ++w) {
+      for (std::uint64_t bits = any[w]; bits; bits &= bits - 1) {
+        const int sample = static_cast<int>(64 * w) + std::countr_zero(bits);
+        if (sample >= n) break;
+        int live = 0;
+        for (int lane = 0; lane < K; ++lane) {
+          const bool on = lane < lanes && ((wanted[(first + lane) * words + w] >> (sample % 64)) & 1u);
+          valid[lane] = on ? -1 : 0;
+          if (on) {
+            set_lane(packet, lane, frames[first + lane], rays, sample);
+            ++live;
+          }
+        }
+        cast += static_cast<std::size_t>(live);
+        rtcOccluded16(valid, impl_->scene, &context, &packet);
+        for (int lane = 0; lane < lanes; ++lane) {
+          if (valid[lane] && packet.tfar[lane] == -std::numeric_limits<float>::infinity()) {
+            blocked[(first + lane) * words + w] |= std::uint64_t{1} << (sample % 64);
+          }
+        }
+      }
+    }
+  }
+  return cast;
+}
 
 const char* embree_rays_name(EmbreeRays rays) {
   switch (rays) {

@@ -67,6 +67,17 @@ class EmbreeScene {
                                   const EmbreeOptions& options = {},
                                   const ProgressCallback& progress = {}) const;
 
+  /// Casts only the rays the caller asks for: for receiver k (frame frames[k]), ray i iff bit i
+  /// of row k of `wanted` is set, each row `words` words; ORs the occluded ones into the same
+  /// bits of `blocked` (same layout). The rays are occlusion()'s own (same origin, direction and
+  /// length floats), in incoherent packets of 16 lanes across neighbouring receivers, one sample
+  /// at a time; so each gets the answer occlusion() gives it. On the calling thread, no
+  /// allocation; call it inside a lut::FlushDenormals-like float mode or not: it sets its own.
+  /// Returns the number of rays cast.
+  std::size_t occlude_selected(const ShadowRays& rays, std::span<const Frame> frames,
+                               std::span<const std::uint64_t> wanted, std::size_t words,
+                               std::span<std::uint64_t> blocked) const;
+
  struct Impl;  // opaque: Embree's headers stay out of exao's
 
  private:

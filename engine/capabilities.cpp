@@ -8,6 +8,7 @@ namespace exao::engine {
 namespace {
 
 constexpr std::array kBothModes{lut::MaskMode::Lut, lut::MaskMode::Exact};
+constexpr std::array kExactOnly{lut::MaskMode::Exact};
 constexpr std::array kEverySidedness{Sidedness::Auto, Sidedness::One, Sidedness::Two};
 constexpr std::array kEveryFalloff{Falloff::Constant, Falloff::Linear, Falloff::Quadratic};
 
@@ -17,6 +18,8 @@ constexpr std::array kEveryFalloff{Falloff::Constant, Falloff::Linear, Falloff::
 const Capabilities kEmbree{true, true, {}, kEverySidedness, kEveryFalloff};
 const Capabilities kBrute{true, true, kBothModes, kEverySidedness, kEveryFalloff};
 const Capabilities kBvh{true, true, kBothModes, kEverySidedness, kEveryFalloff};
+// Auto's certainty margins are those of the exact test; a table's cells carry larger errors.
+const Capabilities kAuto{true, true, kExactOnly, kEverySidedness, kEveryFalloff};
 const Capabilities kRaster{false, true, kBothModes, kEverySidedness, kEveryFalloff};
 
 template <class T>
@@ -36,6 +39,7 @@ const Capabilities& capabilities(Method method) {
     case Method::Brute: return kBrute;
     case Method::Bvh: return kBvh;
     case Method::Raster: return kRaster;
+    case Method::Auto: return kAuto;
   }
   return kBvh;
 }

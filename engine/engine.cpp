@@ -5,6 +5,7 @@
 
 #include <tbb/task_arena.h>
 
+#include "bvh/hybrid.h"
 #include "bvh/occlusion.h"
 #include "core/check.h"
 #include "engine/morton.h"
@@ -22,6 +23,8 @@ struct Engine::Impl {
   ShadowRays rays;
   std::optional<lut::MaskEngine> masks;  // every method but embree
   std::unique_ptr<tbb::task_arena> arena;
+  // Auto's cost model, one per thread, learnt across calls (bvh/hybrid.h).
+  std::unique_ptr<bvh::HybridControllers> hybrid = std::make_unique<bvh::HybridControllers>();
 
   // The masks of consecutive receivers by the method's backend, in their order.
   [[nodiscard]] MaskSet backend_masks(std::span<const Receiver> receivers, const ProgressCallback& progress,
@@ -35,6 +38,9 @@ struct Engine::Impl {
       case Method::Brute: return lut::brute_occlusion(*masks, *geometry->triangles(), receivers, progress);
       case Method::Bvh:
         return bvh::occlusion(*geometry->bvh(), *masks, receivers, progress, run.stats ? &run.stats->traversal : nullptr);
+      case Method::Auto:
+        return bvh::hybrid_occlusion(*geometry->bvh(), *masks, *geometry->embree(), receivers, options.hybrid, *hybrid,
+                                     progress, run.stats ? &run.stats->traversal : nullptr);
       case Method::Raster: break;  // no receivers of its own choosing: refused by check_serves
     }
     EXAO_CHECK(options.method != Method::Raster);
@@ -197,6 +203,11 @@ void Engine::mask_one(const Receiver& receiver, std::span<std::uint64_t> words) 
     return;
   }
   const Frame frame = impl.rays.frame(receiver);
+  if (impl.options.method == Method::Auto) {
+    bvh::hybrid_mask_one(*impl.geometry->bvh(), *impl.masks, *impl.geometry->embree(), frame, impl.options.hybrid,
+                         *impl.hybrid, words);
+    return;
+  }
   with_mask_bits(samples(), [&](auto bits) {
     constexpr int Bits = decltype(bits)::value;
     const lut::FlushDenormals flush;  // the same float mode on every thread (lut/float_mode.h)

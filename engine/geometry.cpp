@@ -19,6 +19,7 @@ bool Geometry::serves(Method method) const {
     case Method::Brute: return triangles_ != nullptr;
     case Method::Bvh: return bvh_ != nullptr;
     case Method::Raster: return triangles_ != nullptr && scene_.has_value();
+    case Method::Auto: return bvh_ != nullptr && embree_ != nullptr;
   }
   return false;
 }
@@ -47,7 +48,7 @@ Result<std::shared_ptr<const Geometry>> Geometry::build(const Scene& scene, std:
   tbb::task_arena arena(options.threads > 0 ? options.threads : static_cast<int>(tbb::task_arena::automatic));
   Result<void> built;
   arena.execute([&] {
-    if (options.embree || uses(methods, Method::Embree)) {
+    if (options.embree || uses(methods, Method::Embree) || uses(methods, Method::Auto)) {
       Result<EmbreeScene> embree = EmbreeScene::build(*source);
       if (!embree) {
         built = std::unexpected(embree.error());
@@ -56,7 +57,7 @@ Result<std::shared_ptr<const Geometry>> Geometry::build(const Scene& scene, std:
       geometry->embree_ = std::make_unique<EmbreeScene>(std::move(*embree));
     }
     const bool brute = uses(methods, Method::Brute);
-    const bool bvh = uses(methods, Method::Bvh);
+    const bool bvh = uses(methods, Method::Bvh) || uses(methods, Method::Auto);
     if (!(brute || bvh || raster)) return;
     auto triangles = std::make_unique<lut::TriangleSet>(lut::TriangleSet::build(*source));
     if (bvh) {

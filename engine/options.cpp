@@ -10,15 +10,15 @@
 namespace exao::engine {
 namespace {
 
-constexpr std::array kMethods{Method::Embree, Method::Brute, Method::Bvh, Method::Raster};
+constexpr std::array kMethods{Method::Auto, Method::Embree, Method::Brute, Method::Bvh, Method::Raster};
 
 // Every field of Options, as errors name them.
-constexpr std::array<std::string_view, 25> kOptionNames{
+constexpr std::array<std::string_view, 26> kOptionNames{
     "radius",       "samples",      "falloff",     "pattern_seed",  "origin_offset", "sidedness",
     "method",       "masks",        "threads",     "table_resolution", "bvh.branching", "bvh.max_leaf_size",
     "raster.alpha", "raster.stats", "embree.rays", "embree.across_receivers", "embree.coherent", "isa",
     "lod",          "lod_eps1",     "lod_levels",  "lod_k",         "lod_overlap",   "lod_filter",
-    "raster.ranges"};
+    "raster.ranges", "hybrid"};
 
 template <class Enum>
 bool in_range(Enum value, Enum last) {
@@ -36,6 +36,7 @@ const char* method_name(Method method) {
     case Method::Brute: return "brute";
     case Method::Bvh: return "bvh";
     case Method::Raster: return "raster";
+    case Method::Auto: return "auto";
   }
   return "?";
 }
@@ -44,7 +45,7 @@ Result<Method> parse_method(const std::string& name) {
   for (const Method m : kMethods) {
     if (name == method_name(m)) return m;
   }
-  return fail("method: unknown method '" + name + "' (embree, brute, bvh or raster)");
+  return fail("method: unknown method '" + name + "' (auto, embree, brute, bvh or raster), got '" + name + "'");
 }
 
 int max_threads() {
@@ -56,7 +57,8 @@ Result<void> check_options(const Options& o) {
   if (auto ok = check_sample_count(o.samples); !ok) return ok;
   if (!in_range(o.falloff, Falloff::Quadratic)) return fail("falloff: not a falloff, got " + number(static_cast<int>(o.falloff)));
   if (!in_range(o.sidedness, Sidedness::Two)) return fail("sidedness: not a sidedness, got " + number(static_cast<int>(o.sidedness)));
-  if (!in_range(o.method, Method::Raster)) return fail("method: not a method, got " + number(static_cast<int>(o.method)));
+  if (!in_range(o.method, Method::Auto)) return fail("method: not a method, got " + number(static_cast<int>(o.method)));
+  if (!in_range(o.hybrid, bvh::HybridPolicy::Rays)) return fail("hybrid: not a policy, got " + number(static_cast<int>(o.hybrid)));
   if (!in_range(o.masks, lut::MaskMode::Exact)) return fail("masks: not a mask mode, got " + number(static_cast<int>(o.masks)));
   if (!in_range(o.embree.rays, EmbreeRays::Packet16)) {
     return fail("embree.rays: not an Embree ray mode, got " + number(static_cast<int>(o.embree.rays)));

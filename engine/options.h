@@ -13,6 +13,7 @@
 #include <string_view>
 
 #include "bvh/bvh.h"
+#include "bvh/hybrid.h"
 #include "core/embree_reference.h"
 #include "core/error.h"
 #include "core/isa.h"
@@ -24,11 +25,12 @@
 
 namespace exao::engine {
 
-/// The backends of DESIGN.md section 5.
-enum class Method { Embree, Brute, Bvh, Raster };
+/// The backends of DESIGN.md section 5. Auto (the default) is bvh's traversal with Embree for
+/// the rays masks do not decide cheaply or surely (bvh/hybrid.h): Embree's answer on every ray.
+enum class Method { Embree, Brute, Bvh, Raster, Auto };
 
 [[nodiscard]] const char* method_name(Method method);
-/// "embree", "brute", "bvh" or "raster"; the error names the option "method".
+/// "auto", "embree", "brute", "bvh" or "raster"; the error names the option "method".
 [[nodiscard]] Result<Method> parse_method(const std::string& name);
 
 /// A length in world units, or a percentage of the scene's bounding-box diagonal.
@@ -55,8 +57,12 @@ struct Options {
   std::optional<float> origin_offset;
   /// Auto: as the scene says (glTF doubleSided; other formats two-sided); One or Two overrides.
   Sidedness sidedness = Sidedness::Auto;
-  Method method = Method::Bvh;
-  /// Where plane masks come from (brute, bvh, raster); embree casts rays and ignores it.
+  Method method = Method::Auto;
+  /// How auto splits the work between masks and rays: its cost model (the default), or masks to
+  /// the end, or rays only (tests and benchmarks; the answer is the same bits in all three).
+  bvh::HybridPolicy hybrid = bvh::HybridPolicy::Adaptive;
+  /// Where plane masks come from (brute, bvh, raster; auto uses exact masks); embree casts rays
+  /// and ignores it.
   lut::MaskMode masks = lut::MaskMode::Exact;  // faster than the table on every level measured (docs/speed.md)
   /// Worker threads, from 0 to max_threads(); 0: one per core. The engine runs everything in a
   /// TBB arena of this size.

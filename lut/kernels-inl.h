@@ -366,3 +366,176 @@ template <int Bits>
                                               const Frame& frame, std::uint64_t allowed, KernelCounters* counters) {
   return triangle_mask<Bits>(ctx, triangles.packed(t), frame, allowed, counters);
 }
+
+// ---------------------------------------------------------------------------------------------
+// Certain masks (the `auto` method): for one triangle, the rays it blocks *for sure* and the rays
+// it *may* block, with respect to Embree's own answer, so that every ray outside the difference
+// is decided by the masks and the rest is cast with Embree (bvh/traverse-inl.h). The margin is
+// the grazing classifier's (core/grazing.h): a ray that passes farther than delta from every
+// edge of the triangle, does not end within delta of it, and starts farther than delta from its
+// plane is not grazing, and there Embree and the exact masks agree. In normalised units (r = 1),
+// with g = 2 delta and d >= g the plane distance:
+//  - sure:  dot(unit, s) >= d + g, and dot(m_e, s) >= (g / d) |m_e| for the three edges. The
+//    segment then crosses the plane at x with |x| >= d, and every point of it is at least
+//    dot(m^_e, w) d / 2 >= delta from each edge line (it is dot(m^_e, w) t from the edge plane,
+//    which holds the origin, and (t_x - t) d / t_x from the triangle's plane), its end g beyond
+//    the plane: it hits the triangle's interior and grazes nothing of it;
+//  - maybe: dot(unit, s) >= d - g and dot(m_e, s) >= -(g / d) |m_e|; a ray outside fails one of
+//    them by that margin and stays farther than delta from every point of the triangle (the
+//    same two distances), so Embree misses it too. With d < g (the origin near the plane: case
+//    (c) of the classifier) nothing is sure and every ray the grown sphere reaches may be.
+// The culls of steps 1-5 are those of triangle_mask with r grown by g, and the cluster culls
+// use the sphere grown by g and the edge planes widened by g / d, so they drop no maybe bit.
+// No clip by the triangle's own sphere (step 7): sure bits cross the triangle itself, and the
+// maybe bits need not be tight. The float rounding of every quantity here is a few ulps of the
+// coordinates, 1/64 of delta or less.
+template <int Bits>
+struct CertainMasks {
+  Mask<Bits> sure;
+  Mask<Bits> maybe;
+};
+
+// Both masks of the planes test in one pass over the clusters.
+template <int Bits>
+[[nodiscard]] inline CertainMasks<Bits> certain_planes_masks(const SampleArrays& samples, const Plane (&edge)[3],
+                                                             const float (&margin)[3], const Plane& face, float g,
+                                                             std::uint64_t clusters) {
+  const auto e0x = Lanes::set(edge[0].m.x), e0y = Lanes::set(edge[0].m.y), e0z = Lanes::set(edge[0].m.z);
+  const auto e1x = Lanes::set(edge[1].m.x), e1y = Lanes::set(edge[1].m.y), e1z = Lanes::set(edge[1].m.z);
+  const auto e2x = Lanes::set(edge[2].m.x), e2y = Lanes::set(edge[2].m.y), e2z = Lanes::set(edge[2].m.z);
+  const auto fx = Lanes::set(face.m.x), fy = Lanes::set(face.m.y), fz = Lanes::set(face.m.z);
+  const auto f_sure = Lanes::set(face.d + g), f_maybe = Lanes::set(face.d - g);
+  const auto m0 = Lanes::set(margin[0]), m1 = Lanes::set(margin[1]), m2 = Lanes::set(margin[2]);
+  const auto n0 = Lanes::set(-margin[0]), n1 = Lanes::set(-margin[1]), n2 = Lanes::set(-margin[2]);
+  const float* px = samples.px();
+  const float* py = samples.py();
+  const float* pz = samples.pz();
+  CertainMasks<Bits> out;
+  while (clusters) {
+    const int k = std::countr_zero(clusters);
+    clusters &= clusters - 1;
+    std::uint64_t sure = 0, maybe = 0;
+    for (int j = 0; j < kSampleCluster; j += Lanes::kWidth) {
+      const int i = kSampleCluster * k + j;
+      const auto x = Lanes::load(px + i), y = Lanes::load(py + i), z = Lanes::load(pz + i);
+      const auto dot = [&](auto mx, auto my, auto mz) {
+        return Lanes::add(Lanes::add(Lanes::mul(mx, x), Lanes::mul(my, y)), Lanes::mul(mz, z));
+      };
+      const auto f = dot(fx, fy, fz), d0 = dot(e0x, e0y, e0z), d1 = dot(e1x, e1y, e1z), d2 = dot(e2x, e2y, e2z);
+      auto s = Lanes::both(Lanes::ge(f, f_sure), Lanes::ge(d0, m0));
+      s = Lanes::both(s, Lanes::both(Lanes::ge(d1, m1), Lanes::ge(d2, m2)));
+      auto m = Lanes::both(Lanes::ge(f, f_maybe), Lanes::ge(d0, n0));
+      m = Lanes::both(m, Lanes::both(Lanes::ge(d1, n1), Lanes::ge(d2, n2)));
+      sure |= Lanes::bits(s) << j;
+      maybe |= Lanes::bits(m) << j;
+    }
+    out.sure.words[k >> 2] |= sure << (16 * (k & 3));
+    out.maybe.words[k >> 2] |= maybe << (16 * (k & 3));
+  }
+  return out;
+}
+
+/// The sure and maybe masks of one triangle at the receiver of `frame`, for the clusters of
+/// `allowed`; `g` is 2 delta in world units (bvh/traverse-inl.h computes it per receiver).
+template <int Bits>
+[[nodiscard]] inline CertainMasks<Bits> triangle_certain(const KernelContext& ctx, const PackedTriangle& tri,
+                                                         const Frame& frame, float g_world, std::uint64_t allowed,
+                                                         KernelCounters* counters) {
+  // 1. Into the receiver frame; all three vertices below the grown horizon.
+  glm::vec3 a = frame.to_local(tri.v0);
+  glm::vec3 b = frame.to_local(tri.v1);
+  glm::vec3 c = frame.to_local(tri.v2);
+  if (a.z <= -g_world && b.z <= -g_world && c.z <= -g_world) return {};
+  const float inv_r = ctx.inv_radius;
+  const float g = g_world * inv_r;
+  a *= inv_r;
+  b *= inv_r;
+  c *= inv_r;
+
+  // 3. The plane (degenerate: Embree finds no hit, and the surface rule blocks nothing either).
+  const glm::vec3 n = glm::cross(b - a, c - a);
+  const float n_length = glm::length(n);
+  if (!(n_length > 0.0f && std::isfinite(n_length))) return {};
+  const glm::vec3 unit = n / n_length;
+  const float signed_d = glm::dot(unit, a);
+  const float d = std::abs(signed_d);
+  if (!(d <= 1.0f + g)) return {};
+  const bool near = d < g;
+  // 2. Facing, decided only away from the plane (there |dot(w, n^)| >= d >= g for every ray that
+  //    reaches it, so Embree's filter decides the same way).
+  if (!near && !tri.two_sided && !(glm::dot(n, -a) > 0.0f)) return {};
+
+  // 4, 5. The influence sphere and the distance, with r grown by g.
+  const glm::vec3 centre = frame.to_local(tri.centre);
+  const float reach = tri.radius + ctx.radius + g_world;
+  if (glm::dot(centre, centre) > reach * reach) return {};
+  if (origin_triangle_distance2(a, b, c) > (1.0f + g) * (1.0f + g)) return {};
+
+  // 6. The planes and their margins.
+  const float sign = signed_d > 0.0f ? 1.0f : -1.0f;
+  const Plane face{unit * sign, d};
+  const Plane edge[3] = {{glm::cross(a, b) * sign, 0.0f}, {glm::cross(b, c) * sign, 0.0f}, {glm::cross(c, a) * sign, 0.0f}};
+  float edge_length[3], margin[3];
+  bool flat = near;  // an edge through (or numerically at) the origin decides nothing for sure
+  for (int e = 0; e < 3; ++e) {
+    const float length2 = glm::dot(edge[e].m, edge[e].m);
+    if (!(length2 > 1e-30f && length2 <= std::numeric_limits<float>::max())) flat = true;
+    edge_length[e] = std::sqrt(length2);
+    margin[e] = flat ? 0.0f : g / d * edge_length[e] * (1.0f + 1e-5f);
+  }
+
+  // 6a. The clusters the grown sphere reaches, and (away from the plane) the widened edge planes.
+  const SphereTest grown = make_sphere_test(centre, tri.radius + g_world, ctx.radius, kTriangleMargin);
+  if (grown.kind == SphereTest::Kind::None) return {};
+  const bool use_cone = grown.kind == SphereTest::Kind::Rays && grown.cone_sin < 1.0f;
+  CertainMasks<Bits> out;
+  NearCells cells;
+  if (!flat && use_cone && ctx.cull_clusters &&
+      near_cells(*ctx.samples, grown.axis, grown.cone_sin, grown.cone_cos - ctx.cluster_slack, cells)) {
+    // A small cone: its few candidate samples one by one (the cells' proof above holds for the
+    //  grown sphere's cone), with the same expressions as the lanes.
+    const SampleArrays& s = *ctx.samples;
+    int tested = 0;
+    for_near_samples(s, cells, allowed & kAllClusters<Bits>, [&](int i) {
+      ++tested;
+      const float x = s.px()[i], y = s.py()[i], z = s.pz()[i];
+      const auto dot = [&](const glm::vec3& m) { return (m.x * x + m.y * y) + m.z * z; };
+      const float f = dot(face.m), d0 = dot(edge[0].m), d1 = dot(edge[1].m), d2 = dot(edge[2].m);
+      if (f >= face.d + g && d0 >= margin[0] && d1 >= margin[1] && d2 >= margin[2]) out.sure.set(i);
+      if (f >= face.d - g && d0 >= -margin[0] && d1 >= -margin[1] && d2 >= -margin[2]) out.maybe.set(i);
+    });
+    if (counters) {
+      ++counters->triangle_masks;
+      counters->near_samples += static_cast<std::uint64_t>(tested);
+    }
+    if (out.maybe.none()) return out;
+    if (origin_on_plane(tri.v0, tri.v1, tri.v2, frame.origin)) return {};
+    return out;
+  }
+  std::uint64_t clusters = allowed & kAllClusters<Bits>;
+  if (ctx.cull_clusters && clusters) {
+    if (flat) {
+      if (use_cone) clusters &= sphere_reach<Bits>(*ctx.samples, grown.axis, grown.cone_cos, grown.cone_sin, ctx.cluster_slack);
+    } else {
+      // The edge cull of triangle_reach proves dot(m^_e, w) < -kClusterSlack for every ray of a
+      // cluster; widened by g / d it proves dot(m^_e, w) < -(g / d), below the maybe threshold
+      // for every sample point s = l w (l <= 1) as well.
+      clusters &= triangle_reach<Bits>(*ctx.samples, edge, edge_length, use_cone, grown.axis, grown.cone_cos,
+                                       grown.cone_sin, ctx.cluster_slack + g / d * (1.0f + 1e-5f));
+    }
+  }
+  if (counters) {
+    ++counters->triangle_masks;
+    counters->cluster_tests += static_cast<std::uint64_t>(std::popcount(clusters));
+  }
+  if (!clusters) return {};
+  if (flat) {
+    out.maybe = cluster_bits<Bits>(clusters) & Mask<Bits>::ones(ctx.samples->count());
+  } else {
+    out = certain_planes_masks<Bits>(*ctx.samples, edge, margin, face, g, clusters);
+  }
+  if (out.maybe.none()) return out;
+  // 6b. The surface rule, on the stored floats, as Embree's filter decides it.
+  if (origin_on_plane(tri.v0, tri.v1, tri.v2, frame.origin)) return {};
+  return out;
+}

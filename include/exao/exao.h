@@ -59,7 +59,8 @@ EXAO_API const char* exao_version(void);
 
 /* RASTER serves only a camera's pixels (exao render, bench): engines refuse it (INVALID_ARGUMENT). */
 typedef enum exao_backend {
-  EXAO_BACKEND_BVH = 0, EXAO_BACKEND_BRUTE = 1, EXAO_BACKEND_EMBREE = 2, EXAO_BACKEND_RASTER = 3
+  EXAO_BACKEND_BVH = 0, EXAO_BACKEND_BRUTE = 1, EXAO_BACKEND_EMBREE = 2, EXAO_BACKEND_RASTER = 3,
+  EXAO_BACKEND_AUTO = 4  /* the default: masks, then Embree's rays; Embree's answer on every ray */
 } exao_backend;
 typedef enum exao_mask_mode { EXAO_MASKS_LUT = 0, EXAO_MASKS_EXACT = 1 } exao_mask_mode;
 typedef enum exao_falloff { EXAO_FALLOFF_CONSTANT = 0, EXAO_FALLOFF_LINEAR = 1, EXAO_FALLOFF_QUADRATIC = 2 } exao_falloff;
@@ -80,7 +81,7 @@ typedef struct exao_options {
   float origin_offset;    /* eps, world units, >= 0; negative: 1e-4 of the diagonal (default -1) */
   int threads;            /* worker threads of batch queries, 0 to 256 (or 4x the cores); 0: one
                              per core (default 0) */
-  exao_backend backend;   /* default EXAO_BACKEND_BVH */
+  exao_backend backend;   /* default EXAO_BACKEND_AUTO */
   int table_resolution;   /* look-up table cells per side, 0 (default for N) or [4, 256] */
   int bvh_branching;      /* 2 or 4 (default 4) */
   exao_embree_rays embree_rays; /* batch queries of the embree backend (default PACKET16) */

@@ -216,9 +216,10 @@ struct SceneData {
 
 // --- Options ----------------------------------------------------------------------------------
 
-/// Which algorithm computes the masks. The three that serve any point give the same AO up to the
-/// mask mode's tolerance (bvh and brute are bit-identical to each other; with MaskMode::Exact
-/// they agree with embree on at least 99.99% of rays, only rays grazing an edge may differ).
+/// Which algorithm computes the masks. Auto (the default) gives Embree's answer on every ray,
+/// and is never meant to be slower than Embree: masks first, Embree for the rays they do not
+/// decide cheaply or surely. bvh and brute are the paper's method alone, bit-identical to each
+/// other; with MaskMode::Exact they agree with embree on all rays but a few that graze an edge.
 enum class Backend : int {
   Bvh = 0,     // paper Sec. 5: BVH traversal with occlusion-ordered culling; the fast default
   Brute = 1,   // OR of every nearby triangle's mask: the slow definition bvh reproduces
@@ -226,6 +227,7 @@ enum class Backend : int {
   Raster = 3,  // paper Sec. 4: serves only the pixels of a camera image (the exao program's
                // render and bench), never arbitrary points: Engine::build refuses it with
                // InvalidArgument naming options.backend
+  Auto = 4,    // bvh's masks under a cost model, then Embree's rays (exact masks only)
 };
 
 /// Where the plane masks of bvh and brute come from (ignored by embree).
@@ -270,7 +272,7 @@ struct Options {
   /// Worker threads of batch queries (and of the build), from 0 to 256 (or 4x the cores, if
   /// more: oneTBB's ceiling); 0: one per core.
   int threads = 0;
-  Backend backend = Backend::Bvh;
+  Backend backend = Backend::Auto;
   /// Look-up table cells per side R (MaskMode::Lut), 0 or in [4, 256]: 0 picks the default
   /// for N (64 to 128, tens of MiB). Memory: R^3 * B / 8 bytes, B = N rounded up to a power
   /// of two >= 64. Built once per engine, in about a second on a few cores.
@@ -323,7 +325,7 @@ struct RayMask {
 
 /// What an engine was built with, after defaults were resolved.
 struct EngineInfo {
-  Backend backend = Backend::Bvh;
+  Backend backend = Backend::Auto;
   MaskMode mask_mode = MaskMode::Exact;
   Falloff falloff = Falloff::Constant;
   int samples = 0;                 // N

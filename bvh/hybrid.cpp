@@ -1,0 +1,202 @@
+#include "bvh/hybrid.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include <tbb/blocked_range.h>
+#include <tbb/combinable.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include "core/check.h"
+#include "lut/float_mode.h"
+
+namespace exao::bvh {
+
+struct HybridControllers::Storage {
+  tbb::enumerable_thread_specific<HybridController> local;
+};
+
+HybridControllers::HybridControllers() : storage_(new Storage) {}
+HybridControllers::~HybridControllers() { delete storage_; }
+HybridController& HybridControllers::local() { return storage_->local.local(); }
+
+const char* hybrid_policy_name(HybridPolicy policy) {
+  switch (policy) {
+    case HybridPolicy::Adaptive: return "adaptive";
+    case HybridPolicy::Masks: return "masks";
+    case HybridPolicy::Rays: return "rays";
+  }
+  return "?";
+}
+
+Result<HybridPolicy> parse_hybrid_policy(const std::string& name) {
+  for (const HybridPolicy p : {HybridPolicy::Adaptive, HybridPolicy::Masks, HybridPolicy::Rays}) {
+    if (name == hybrid_policy_name(p)) return p;
+  }
+  return fail("hybrid: unknown policy '" + name + "' (adaptive, masks or rays)");
+}
+
+float HybridController::allowance(int level, int n) {
+  switch (level) {
+    case 0: return 0.0f;
+    case 1: return static_cast<float>(n) / 16.0f;
+    case 2: return static_cast<float>(n) / 4.0f;
+    case 3: return static_cast<float>(n);
+    default: return std::numeric_limits<float>::infinity();
+  }
+}
+
+void HybridController::record(int task_level, std::size_t receivers, double mask_time_ns, std::uint64_t units,
+                              double ray_time_ns, std::uint64_t rays_cast) {
+  mask_ns = 0.9 * mask_ns + mask_time_ns;
+  mask_units = 0.9 * mask_units + static_cast<double>(units);
+  ray_ns = 0.9 * ray_ns + ray_time_ns;
+  rays = 0.9 * rays + static_cast<double>(rays_cast);
+  if (mask_units > 0.0 && rays > 0.0 && ray_ns > 0.0) {
+    rays_per_unit = static_cast<float>(std::clamp((mask_ns / mask_units) / (ray_ns / rays), 1e-3, 1e3));
+  }
+  const double per_receiver = (mask_time_ns + ray_time_ns) / static_cast<double>(receivers);
+  double& average = cost[task_level];
+  average = average == 0.0 ? per_receiver : 0.75 * average + 0.25 * per_receiver;
+  int best = task_level;
+  for (int l = 0; l < kLevels; ++l) {
+    if (cost[l] > 0.0 && cost[l] < cost[best]) best = l;
+  }
+  ++tasks;
+  level = best;
+  if (tasks % 4 == 0) {
+    const int step = (tasks / 4) % 2 == 0 ? 1 : -1;
+    level = best + step >= 0 && best + step < kLevels ? best + step : best - step;
+  }
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Receivers per measured task: a multiple of Embree's packet width, and long enough (tens of
+// microseconds at least) that the clock's resolution does not matter.
+constexpr std::size_t kTask = 64;
+
+double nanoseconds(Clock::time_point a, Clock::time_point b) {
+  return static_cast<double>(std::chrono::duration_cast<std::chrono::nanoseconds>(b - a).count());
+}
+
+
+template <int Bits, bool Stats>
+void run_task(const Bvh& bvh, const lut::MaskEngine& engine, const EmbreeScene& embree,
+              std::span<const Receiver> receivers, std::size_t begin, std::size_t end, HybridPolicy policy,
+              HybridController& controller, MaskSet& masks, TraversalStats* stats) {
+  const int n = engine.samples();
+  const std::size_t words = static_cast<std::size_t>(masks.words());
+  const std::size_t count = end - begin;
+  Frame frames[kTask];
+  std::uint64_t undecided[kTask * (Bits / 64)];
+  const int level = policy == HybridPolicy::Masks ? HybridController::kUnbounded : controller.level;
+  const MaskBudget budget{controller.rays_per_unit, HybridController::allowance(level, n)};
+  const MaskBudget* limit = level == HybridController::kUnbounded ? nullptr : &budget;
+  const Mask<Bits> all = engine.template all_rays<Bits>();
+
+  const Clock::time_point t0 = Clock::now();
+  std::uint64_t units = 0;
+  for (std::size_t i = 0; i < count; ++i) {
+    frames[i] = engine.rays().frame(receivers[begin + i]);
+    std::span<std::uint64_t> row_undecided(undecided + i * words, words);
+    if (policy == HybridPolicy::Rays) {
+      store(all, row_undecided);
+      continue;
+    }
+    HybridOutcome<Bits> outcome;
+    const Mask<Bits> sure = traverse_certain<Bits, Stats>(bvh, engine, frames[i], stats, limit, outcome);
+    store(sure, masks.row(begin + i));
+    store(outcome.undecided, row_undecided);
+    units += outcome.units;
+    if constexpr (Stats) {
+      if (!outcome.complete) ++stats->receivers_stopped;
+    }
+  }
+  const Clock::time_point t1 = Clock::now();
+  const std::size_t cast = embree.occlude_selected(
+      engine.rays(), std::span<const Frame>(frames, count), std::span<const std::uint64_t>(undecided, count * words),
+      words, masks.all_rows().subspan(begin * words, count * words));
+  const Clock::time_point t2 = Clock::now();
+  if (stats) {
+    if (policy == HybridPolicy::Rays) stats->receivers += count;
+    stats->rays_cast += cast;
+    stats->rays += count * static_cast<std::size_t>(n);
+  }
+
+  if (policy != HybridPolicy::Adaptive) return;
+  controller.record(level, count, nanoseconds(t0, t1), units, nanoseconds(t1, t2), cast);
+}
+
+template <int Bits, bool Stats>
+void run(const Bvh& bvh, const lut::MaskEngine& engine, const EmbreeScene& embree, std::span<const Receiver> receivers,
+         HybridPolicy policy, HybridControllers& controllers, MaskSet& masks, const ProgressCallback& progress,
+         TraversalStats* stats) {
+  ProgressCounter counter(progress, receivers.size());
+  tbb::combinable<TraversalStats> local;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, receivers.size(), kTask),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      const lut::FlushDenormals flush;  // the same float mode as every other backend
+                      HybridController& controller = controllers.local();
+                      TraversalStats* mine = Stats ? &local.local() : nullptr;
+                      for (std::size_t first = range.begin(); first < range.end(); first += kTask) {
+                        const std::size_t last = std::min(range.end(), first + kTask);
+                        run_task<Bits, Stats>(bvh, engine, embree, receivers, first, last, policy, controller, masks,
+                                              mine);
+                      }
+                      counter.add(range.size());
+                    });
+  if (stats) local.combine_each([&](const TraversalStats& s) { *stats += s; });
+}
+
+}  // namespace
+
+MaskSet hybrid_occlusion(const Bvh& bvh, const lut::MaskEngine& engine, const EmbreeScene& embree,
+                         std::span<const Receiver> receivers, HybridPolicy policy, HybridControllers& controllers,
+                         const ProgressCallback& progress, TraversalStats* stats) {
+  EXAO_CHECK(engine.mode() == lut::MaskMode::Exact);
+  MaskSet masks(receivers.size(), engine.samples());
+  with_mask_bits(engine.samples(), [&](auto bits) {
+    constexpr int Bits = decltype(bits)::value;
+    if (stats) {
+      run<Bits, true>(bvh, engine, embree, receivers, policy, controllers, masks, progress, stats);
+    } else {
+      run<Bits, false>(bvh, engine, embree, receivers, policy, controllers, masks, progress, nullptr);
+    }
+  });
+  return masks;
+}
+
+void hybrid_mask_one(const Bvh& bvh, const lut::MaskEngine& engine, const EmbreeScene& embree, const Frame& frame,
+                     HybridPolicy policy, HybridControllers& controllers, std::span<std::uint64_t> words) {
+  const int n = engine.samples();
+  with_mask_bits(n, [&](auto bits) {
+    constexpr int Bits = decltype(bits)::value;
+    const lut::FlushDenormals flush;
+    HybridController& controller = controllers.local();
+    std::uint64_t undecided[Bits / 64];
+    std::span<std::uint64_t> row_undecided(undecided, words.size());
+    if (policy == HybridPolicy::Rays) {
+      std::fill(words.begin(), words.end(), 0);
+      store(engine.template all_rays<Bits>(), row_undecided);
+    } else {
+      // One receiver: the thread's level, without timing (a call is too short to time).
+      const int level = policy == HybridPolicy::Masks ? HybridController::kUnbounded : controller.level;
+      const MaskBudget budget{controller.rays_per_unit, HybridController::allowance(level, n)};
+      HybridOutcome<Bits> outcome;
+      const MaskBudget* limit = level == HybridController::kUnbounded ? nullptr : &budget;
+      const Mask<Bits> sure = traverse_certain<Bits, false>(bvh, engine, frame, nullptr, limit, outcome);
+      store(sure, words);
+      store(outcome.undecided, row_undecided);
+    }
+    (void)embree.occlude_selected(engine.rays(), std::span<const Frame>(&frame, 1), row_undecided, words.size(), words);
+  });
+}
+
+}  // namespace exao::bvh
