@@ -213,6 +213,28 @@ Result<Bvh> Bvh::build(const lut::TriangleSet& triangles, const BvhOptions& opti
       bvh.largest_coordinate = std::max({bvh.largest_coordinate, std::abs(v.x), std::abs(v.y), std::abs(v.z)});
     }
   }
+  // One block per leaf, in lanes.
+  bvh.leaf_block.assign(bvh.packed.size(), 0);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  for (const Node& node : bvh.nodes) {
+    for (int k = 0; k < node.child_count; ++k) {
+      if (node.leaf_size[k] == 0) continue;
+      LeafBlock block;
+      for (int l = 0; l < LeafBlock::kLanes; ++l) {
+        const bool used = l < node.leaf_size[k];
+        const lut::PackedTriangle& t = bvh.packed[node.child[k] + (used ? l : 0)];
+        const auto put = [&](float* lanes, float value) { lanes[l] = used ? value : nan; };
+        put(block.v0x, t.v0.x), put(block.v0y, t.v0.y), put(block.v0z, t.v0.z);
+        put(block.v1x, t.v1.x), put(block.v1y, t.v1.y), put(block.v1z, t.v1.z);
+        put(block.v2x, t.v2.x), put(block.v2y, t.v2.y), put(block.v2z, t.v2.z);
+        put(block.cx, t.centre.x), put(block.cy, t.centre.y), put(block.cz, t.centre.z);
+        put(block.radius, t.radius);
+        if (used && t.two_sided) block.two_sided |= 1u << l;
+      }
+      bvh.leaf_block[node.child[k]] = static_cast<std::uint32_t>(bvh.blocks.size());
+      bvh.blocks.push_back(block);
+    }
+  }
   return bvh;
 }
 

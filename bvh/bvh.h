@@ -28,6 +28,19 @@ struct Node {
   std::uint8_t child_count;
 };
 
+/// A leaf's triangles side by side, lane k = the leaf's triangle k (the same floats as `packed`),
+/// lanes past the leaf's size NaN: the certain kernels of `auto` set up a whole leaf at once,
+/// lane = triangle (lut/kernels-inl.h, certain_setup_block).
+struct alignas(32) LeafBlock {
+  static constexpr int kLanes = 8;
+  float v0x[kLanes], v0y[kLanes], v0z[kLanes];
+  float v1x[kLanes], v1y[kLanes], v1z[kLanes];
+  float v2x[kLanes], v2y[kLanes], v2z[kLanes];
+  float cx[kLanes], cy[kLanes], cz[kLanes];  // bounding spheres
+  float radius[kLanes];
+  std::uint32_t two_sided = 0;  // bit k: lane k is two-sided
+};
+
 struct BvhOptions {
   int branching = 4;     // 2 or 4 children per node (Embree's maxBranchingFactor)
   int max_leaf_size = 8; // triangles per leaf, 1-8 (paper Sec. 6)
@@ -42,6 +55,8 @@ struct Bvh {
   std::vector<lut::PackedTriangle, lut::CacheLineAllocator<lut::PackedTriangle>> packed;  // the same, a cache line each
   std::vector<std::uint32_t> scene_triangle;  // index in the scene of triangles[i]
   float largest_coordinate = 0.0f;             // max |coordinate| of every vertex (the grazing margin's scale)
+  std::vector<LeafBlock, lut::CacheLineAllocator<LeafBlock>> blocks;  // one per leaf
+  std::vector<std::uint32_t> leaf_block;       // per triangle that starts a leaf: its block
 
   /// Builds over `triangles` (copied in leaf order: the floats are the same, so every mask
   /// equals brute's). Fails on an empty set or an Embree error.

@@ -17,6 +17,83 @@
 //    node's mask still holds every maybe bit below it (the nesting of lut/sphere_test.h holds for
 //    spheres grown by the same length), and the box culls use a slack of at least g.
 
+// Steps 1-4 of the certain kernels (lut/kernels-inl.h, certain_setup) for every triangle of a
+// leaf at once, lane = triangle, with certain_setup's expressions in its order (glm's dot is
+// (x + y) + z, its cross the usual three differences), so every lane's floats are that
+// function's. Returns the lanes that pass; their set-up is in `out` (struct of arrays).
+struct alignas(32) CertainBlock {
+  float ax[8], ay[8], az[8], bx[8], by[8], bz[8], cx[8], cy[8], cz[8];
+  float nx[8], ny[8], nz[8], ux[8], uy[8], uz[8], sd[8], ox[8], oy[8], oz[8];
+
+  [[nodiscard]] CertainSetup lane(int l) const {
+    return {{ax[l], ay[l], az[l]}, {bx[l], by[l], bz[l]}, {cx[l], cy[l], cz[l]},
+            {nx[l], ny[l], nz[l]}, {ux[l], uy[l], uz[l]}, sd[l], {ox[l], oy[l], oz[l]}};
+  }
+};
+
+[[nodiscard]] inline std::uint32_t certain_setup_block(const KernelContext& ctx, const LeafBlock& leaf,
+                                                       const Frame& frame, float g_world, CertainBlock& out) {
+  using L = Lanes8;
+  const auto ox = L::set(frame.origin.x), oy = L::set(frame.origin.y), oz = L::set(frame.origin.z);
+  const auto tx = L::set(frame.tangent.x), ty = L::set(frame.tangent.y), tz = L::set(frame.tangent.z);
+  const auto bx = L::set(frame.bitangent.x), by = L::set(frame.bitangent.y), bz = L::set(frame.bitangent.z);
+  const auto nx = L::set(frame.normal.x), ny = L::set(frame.normal.y), nz = L::set(frame.normal.z);
+  const auto inv_r = L::set(ctx.inv_radius);
+  const float g_n = g_world * ctx.inv_radius;
+  const auto g = L::set(g_n), minus_gw = L::set(-g_world), zero = L::set(0.0f);
+  const auto d_max = L::set(1.0f + g_n), big = L::set(std::numeric_limits<float>::max());
+  const auto reach = L::set(ctx.radius + g_world);
+  std::uint32_t live = 0;
+  for (int l = 0; l < 8; l += L::kWidth) {
+    // 1. Into the receiver frame: to_local is dot(v - o, t), dot(v - o, b), dot(v - o, n).
+    const auto local = [&](const float* x, const float* y, const float* z, auto& lx, auto& ly, auto& lz) {
+      const auto dx = L::sub(L::load(x + l), ox), dy = L::sub(L::load(y + l), oy), dz = L::sub(L::load(z + l), oz);
+      lx = L::add(L::add(L::mul(dx, tx), L::mul(dy, ty)), L::mul(dz, tz));
+      ly = L::add(L::add(L::mul(dx, bx), L::mul(dy, by)), L::mul(dz, bz));
+      lz = L::add(L::add(L::mul(dx, nx), L::mul(dy, ny)), L::mul(dz, nz));
+    };
+    typename L::F ax, ay, az, bx_, by_, bz_, cx, cy, cz, ccx, ccy, ccz;
+    local(leaf.v0x, leaf.v0y, leaf.v0z, ax, ay, az);
+    local(leaf.v1x, leaf.v1y, leaf.v1z, bx_, by_, bz_);
+    local(leaf.v2x, leaf.v2y, leaf.v2z, cx, cy, cz);
+    auto ok = L::not_(L::both(L::both(L::le(az, minus_gw), L::le(bz_, minus_gw)), L::le(cz, minus_gw)));
+    ax = L::mul(ax, inv_r), ay = L::mul(ay, inv_r), az = L::mul(az, inv_r);
+    bx_ = L::mul(bx_, inv_r), by_ = L::mul(by_, inv_r), bz_ = L::mul(bz_, inv_r);
+    cx = L::mul(cx, inv_r), cy = L::mul(cy, inv_r), cz = L::mul(cz, inv_r);
+    // 3. n = cross(b - a, c - a), |n|, the unit normal and the signed distance.
+    const auto ex = L::sub(bx_, ax), ey = L::sub(by_, ay), ez = L::sub(bz_, az);
+    const auto fx = L::sub(cx, ax), fy = L::sub(cy, ay), fz = L::sub(cz, az);
+    const auto n_x = L::sub(L::mul(ey, fz), L::mul(fy, ez));
+    const auto n_y = L::sub(L::mul(ez, fx), L::mul(fz, ex));
+    const auto n_z = L::sub(L::mul(ex, fy), L::mul(fx, ey));
+    const auto n_length = L::sqrt(L::add(L::add(L::mul(n_x, n_x), L::mul(n_y, n_y)), L::mul(n_z, n_z)));
+    ok = L::both(ok, L::both(L::gt(n_length, zero), L::le(n_length, big)));
+    const auto ux = L::div(n_x, n_length), uy = L::div(n_y, n_length), uz = L::div(n_z, n_length);
+    const auto sd = L::add(L::add(L::mul(ux, ax), L::mul(uy, ay)), L::mul(uz, az));
+    const auto d = L::abs(sd);
+    ok = L::both(ok, L::le(d, d_max));
+    // 2. Facing (one-sided lanes, away from the plane): dot(n, -a) > 0.
+    const auto facing = L::gt(L::add(L::add(L::mul(n_x, L::sub(zero, ax)), L::mul(n_y, L::sub(zero, ay))),
+                                     L::mul(n_z, L::sub(zero, az))),
+                              zero);
+    const auto two_sided = L::from_bits(leaf.two_sided >> l);
+    ok = L::both(ok, L::either(L::either(L::lt(d, g), two_sided), facing));
+    // 4. The influence sphere.
+    local(leaf.cx, leaf.cy, leaf.cz, ccx, ccy, ccz);
+    const auto rr = L::add(L::load(leaf.radius + l), reach);
+    ok = L::both(ok, L::le(L::add(L::add(L::mul(ccx, ccx), L::mul(ccy, ccy)), L::mul(ccz, ccz)), L::mul(rr, rr)));
+    live |= static_cast<std::uint32_t>(L::bits(ok)) << l;
+    L::store(out.ax + l, ax), L::store(out.ay + l, ay), L::store(out.az + l, az);
+    L::store(out.bx + l, bx_), L::store(out.by + l, by_), L::store(out.bz + l, bz_);
+    L::store(out.cx + l, cx), L::store(out.cy + l, cy), L::store(out.cz + l, cz);
+    L::store(out.nx + l, n_x), L::store(out.ny + l, n_y), L::store(out.nz + l, n_z);
+    L::store(out.ux + l, ux), L::store(out.uy + l, uy), L::store(out.uz + l, uz);
+    L::store(out.sd + l, sd);
+    L::store(out.ox + l, ccx), L::store(out.oy + l, ccy), L::store(out.oz + l, ccz);
+  }
+  return live;
+}
+
 template <int Bits, bool Stats, bool Certain>
 [[nodiscard]] Mask<Bits> traverse_receiver(const Bvh& bvh, const lut::MaskEngine& engine, const Frame& frame,
                                            TraversalStats* stats, const MaskBudget* budget,
@@ -123,23 +200,37 @@ template <int Bits, bool Stats, bool Certain>
         break;
       }
       std::uint64_t allowed = lut::occupied_clusters(wanted);
-      for (std::uint32_t t = entry.child; t < entry.child + entry.leaf_size; ++t) {
-        Mask<Bits> m;
-        if constexpr (Certain) {
-          const CertainMasks<Bits> both = triangle_certain<Bits>(ctx, bvh.packed[t], frame, g, allowed, counters);
-          m = both.sure;
+      if constexpr (Certain) {
+        // The leaf's set-up in lanes, then the planes of the triangles that pass, in order.
+        CertainBlock setup;
+        std::uint32_t live = certain_setup_block(ctx, bvh.blocks[bvh.leaf_block[entry.child]], frame, g, setup);
+        if constexpr (Stats) stats->triangles_tested += entry.leaf_size;
+        while (live) {
+          const int l = std::countr_zero(live);
+          live &= live - 1;
+          const CertainMasks<Bits> both =
+              certain_finish<Bits>(ctx, bvh.packed[entry.child + l], setup.lane(l), frame, g, allowed, counters);
+          if constexpr (Stats) {
+            if (popcount_and_not(both.sure, blocked) > 0) ++stats->triangles_blocking;
+          }
           maybe |= both.maybe;
-        } else {
-          m = triangle_mask<Bits>(ctx, bvh.packed[t], frame, allowed, counters);
+          if (both.sure.none()) continue;
+          blocked |= both.sure;
+          allowed &= lut::open_clusters(blocked, n_rays);
+          if (!allowed) break;
         }
-        if constexpr (Stats) {
-          ++stats->triangles_tested;
-          if (popcount_and_not(m, blocked) > 0) ++stats->triangles_blocking;
+      } else {
+        for (std::uint32_t t = entry.child; t < entry.child + entry.leaf_size; ++t) {
+          const Mask<Bits> m = triangle_mask<Bits>(ctx, bvh.packed[t], frame, allowed, counters);
+          if constexpr (Stats) {
+            ++stats->triangles_tested;
+            if (popcount_and_not(m, blocked) > 0) ++stats->triangles_blocking;
+          }
+          if (m.none()) continue;
+          blocked |= m;
+          allowed &= lut::open_clusters(blocked, n_rays);
+          if (!allowed) break;
         }
-        if (m.none()) continue;
-        blocked |= m;
-        allowed &= lut::open_clusters(blocked, n_rays);
-        if (!allowed) break;
       }
       if (blocked == all) return finish(true);
       if constexpr (Certain) {

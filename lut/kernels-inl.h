@@ -435,41 +435,66 @@ template <int Bits>
   return out;
 }
 
-/// The sure and maybe masks of one triangle at the receiver of `frame`, for the clusters of
-/// `allowed`; `g` is 2 delta in world units (bvh/traverse-inl.h computes it per receiver).
-template <int Bits>
-[[nodiscard]] inline CertainMasks<Bits> triangle_certain(const KernelContext& ctx, const PackedTriangle& tri,
-                                                         const Frame& frame, float g_world, std::uint64_t allowed,
-                                                         KernelCounters* counters) {
+// Steps 1-4 of triangle_certain, and what they leave to the rest: the triangle in the receiver
+// frame. (triangle_mask's step 5, the exact distance, is only a cull: a triangle farther than r
+// reaches no sample point, so its planes' masks are empty anyway; the certain kernels leave it
+// out, and the leaf set-up in lanes with it.)
+struct CertainSetup {
+  glm::vec3 a, b, c;  // vertices, receiver frame, normalised units
+  glm::vec3 n;        // cross(b - a, c - a)
+  glm::vec3 unit;     // n / |n|
+  float signed_d;     // dot(unit, a)
+  glm::vec3 centre;   // the bounding sphere's centre, receiver frame, world units
+};
+
+// Steps 1-4 for one triangle; false when it blocks nothing, even maybe. Every expression is the
+// one certain_setup_block (bvh/traverse-inl.h) evaluates in lanes, in the same order, so both
+// give the same floats.
+[[nodiscard]] inline bool certain_setup(const KernelContext& ctx, const PackedTriangle& tri, const Frame& frame,
+                                        float g_world, CertainSetup& s) {
   // 1. Into the receiver frame; all three vertices below the grown horizon.
-  glm::vec3 a = frame.to_local(tri.v0);
-  glm::vec3 b = frame.to_local(tri.v1);
-  glm::vec3 c = frame.to_local(tri.v2);
-  if (a.z <= -g_world && b.z <= -g_world && c.z <= -g_world) return {};
+  s.a = frame.to_local(tri.v0);
+  s.b = frame.to_local(tri.v1);
+  s.c = frame.to_local(tri.v2);
+  if (s.a.z <= -g_world && s.b.z <= -g_world && s.c.z <= -g_world) return false;
   const float inv_r = ctx.inv_radius;
   const float g = g_world * inv_r;
-  a *= inv_r;
-  b *= inv_r;
-  c *= inv_r;
-
+  s.a *= inv_r;
+  s.b *= inv_r;
+  s.c *= inv_r;
   // 3. The plane (degenerate: Embree finds no hit, and the surface rule blocks nothing either).
-  const glm::vec3 n = glm::cross(b - a, c - a);
-  const float n_length = glm::length(n);
-  if (!(n_length > 0.0f && std::isfinite(n_length))) return {};
-  const glm::vec3 unit = n / n_length;
-  const float signed_d = glm::dot(unit, a);
-  const float d = std::abs(signed_d);
-  if (!(d <= 1.0f + g)) return {};
-  const bool near = d < g;
+  s.n = glm::cross(s.b - s.a, s.c - s.a);
+  const float n_length = std::sqrt(glm::dot(s.n, s.n));
+  if (!(n_length > 0.0f && n_length <= std::numeric_limits<float>::max())) return false;
+  s.unit = s.n / n_length;
+  s.signed_d = glm::dot(s.unit, s.a);
+  const float d = std::abs(s.signed_d);
+  if (!(d <= 1.0f + g)) return false;
   // 2. Facing, decided only away from the plane (there |dot(w, n^)| >= d >= g for every ray that
   //    reaches it, so Embree's filter decides the same way).
-  if (!near && !tri.two_sided && !(glm::dot(n, -a) > 0.0f)) return {};
-
-  // 4, 5. The influence sphere and the distance, with r grown by g.
-  const glm::vec3 centre = frame.to_local(tri.centre);
+  if (!(d < g) && !tri.two_sided && !(glm::dot(s.n, -s.a) > 0.0f)) return false;
+  // 4. The influence sphere, with r grown by g.
+  s.centre = frame.to_local(tri.centre);
   const float reach = tri.radius + ctx.radius + g_world;
-  if (glm::dot(centre, centre) > reach * reach) return {};
-  if (origin_triangle_distance2(a, b, c) > (1.0f + g) * (1.0f + g)) return {};
+  return glm::dot(s.centre, s.centre) <= reach * reach;
+}
+
+/// The sure and maybe masks of one triangle at the receiver of `frame`, for the clusters of
+/// `allowed`; `g_world` is 2 delta in world units (bvh/traverse-inl.h computes it per receiver),
+/// after steps 1-4 (certain_setup or certain_setup_block) have let it through.
+template <int Bits>
+[[nodiscard]] inline CertainMasks<Bits> certain_finish(const KernelContext& ctx, const PackedTriangle& tri,
+                                                       const CertainSetup& s, const Frame& frame, float g_world,
+                                                       std::uint64_t allowed, KernelCounters* counters) {
+  const float g = g_world * ctx.inv_radius;
+  const glm::vec3& a = s.a;
+  const glm::vec3& b = s.b;
+  const glm::vec3& c = s.c;
+  const glm::vec3& unit = s.unit;
+  const glm::vec3& centre = s.centre;
+  const float signed_d = s.signed_d;
+  const float d = std::abs(signed_d);
+  const bool near = d < g;
 
   // 6. The planes and their margins.
   const float sign = signed_d > 0.0f ? 1.0f : -1.0f;
@@ -494,11 +519,11 @@ template <int Bits>
       near_cells(*ctx.samples, grown.axis, grown.cone_sin, grown.cone_cos - ctx.cluster_slack, cells)) {
     // A small cone: its few candidate samples one by one (the cells' proof above holds for the
     //  grown sphere's cone), with the same expressions as the lanes.
-    const SampleArrays& s = *ctx.samples;
+    const SampleArrays& samples = *ctx.samples;
     int tested = 0;
-    for_near_samples(s, cells, allowed & kAllClusters<Bits>, [&](int i) {
+    for_near_samples(samples, cells, allowed & kAllClusters<Bits>, [&](int i) {
       ++tested;
-      const float x = s.px()[i], y = s.py()[i], z = s.pz()[i];
+      const float x = samples.px()[i], y = samples.py()[i], z = samples.pz()[i];
       const auto dot = [&](const glm::vec3& m) { return (m.x * x + m.y * y) + m.z * z; };
       const float f = dot(face.m), d0 = dot(edge[0].m), d1 = dot(edge[1].m), d2 = dot(edge[2].m);
       if (f >= face.d + g && d0 >= margin[0] && d1 >= margin[1] && d2 >= margin[2]) out.sure.set(i);
@@ -538,4 +563,14 @@ template <int Bits>
   // 6b. The surface rule, on the stored floats, as Embree's filter decides it.
   if (origin_on_plane(tri.v0, tri.v1, tri.v2, frame.origin)) return {};
   return out;
+}
+
+/// The sure and maybe masks of one triangle (steps 1-6b), as the leaf kernels compute them.
+template <int Bits>
+[[nodiscard]] inline CertainMasks<Bits> triangle_certain(const KernelContext& ctx, const PackedTriangle& tri,
+                                                         const Frame& frame, float g_world, std::uint64_t allowed,
+                                                         KernelCounters* counters) {
+  CertainSetup s;
+  if (!certain_setup(ctx, tri, frame, g_world, s)) return {};
+  return certain_finish<Bits>(ctx, tri, s, frame, g_world, allowed, counters);
 }

@@ -9,6 +9,9 @@
 // (false for NaN), so every level gives the same bits for the same inputs. Lanes beyond N hold
 // NaN, which fails every comparison, so their bits stay zero.
 
+// Lanes8 is the same over 8 floats (the scalar twin: 1), for the set-up of a BVH leaf of up to
+// 8 triangles, lane = triangle (bvh/traverse-inl.h): AVX at the AVX2 and AVX-512 levels, SSE
+// (4 lanes, two steps) below, one lane for the scalar twin.
 #if EXAO_KERNEL_LANES == 1
 // One lane: the scalar twin, the definition the vector lanes reproduce.
 struct Lanes {
@@ -27,7 +30,17 @@ struct Lanes {
   static M le(F a, F b) { return a <= b; }
   static M both(M a, M b) { return a && b; }
   static std::uint64_t bits(M m) { return m ? 1u : 0u; }
+  static void store(float* p, F a) { *p = a; }
+  static F div(F a, F b) { return a / b; }
+  static F sqrt(F a) { return std::sqrt(a); }
+  static F abs(F a) { return std::abs(a); }
+  static M gt(F a, F b) { return a > b; }
+  static M lt(F a, F b) { return a < b; }
+  static M either(M a, M b) { return a || b; }
+  static M not_(M a) { return !a; }
+  static M from_bits(std::uint32_t b) { return (b & 1u) != 0; }
 };
+using Lanes8 = Lanes;
 #elif EXAO_KERNEL_LANES == 16
 struct Lanes {
   static constexpr int kWidth = 16;
@@ -46,6 +59,33 @@ struct Lanes {
   static M both(M a, M b) { return static_cast<M>(a & b); }
   static std::uint64_t bits(M m) { return m; }
 };
+struct Lanes8 {
+  static constexpr int kWidth = 8;
+  using F = __m256;
+  using M = __m256;  // all-ones or all-zeros per lane
+  static F load(const float* p) { return _mm256_load_ps(p); }
+  static F set(float x) { return _mm256_set1_ps(x); }
+  static F add(F a, F b) { return _mm256_add_ps(a, b); }
+  static F sub(F a, F b) { return _mm256_sub_ps(a, b); }
+  static F mul(F a, F b) { return _mm256_mul_ps(a, b); }
+  static F div(F a, F b) { return _mm256_div_ps(a, b); }
+  static F sqrt(F a) { return _mm256_sqrt_ps(a); }
+  static F abs(F a) { return _mm256_andnot_ps(_mm256_set1_ps(-0.0f), a); }
+  static M ge(F a, F b) { return _mm256_cmp_ps(a, b, _CMP_GE_OQ); }
+  static M le(F a, F b) { return _mm256_cmp_ps(a, b, _CMP_LE_OQ); }
+  static M gt(F a, F b) { return _mm256_cmp_ps(a, b, _CMP_GT_OQ); }
+  static M lt(F a, F b) { return _mm256_cmp_ps(a, b, _CMP_LT_OQ); }
+  static M both(M a, M b) { return _mm256_and_ps(a, b); }
+  static M either(M a, M b) { return _mm256_or_ps(a, b); }
+  static M not_(M a) { return _mm256_xor_ps(a, _mm256_castsi256_ps(_mm256_set1_epi32(-1))); }
+  static M from_bits(std::uint32_t b) {
+    const __m256i bit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+    return _mm256_castsi256_ps(_mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(static_cast<int>(b)), bit), bit));
+  }
+  static void store(float* p, F a) { _mm256_store_ps(p, a); }
+  static std::uint64_t bits(M m) { return static_cast<std::uint32_t>(_mm256_movemask_ps(m)); }
+};
+
 #elif EXAO_KERNEL_LANES == 8
 struct Lanes {
   static constexpr int kWidth = 8;
@@ -63,6 +103,32 @@ struct Lanes {
   static M both(M a, M b) { return _mm256_and_ps(a, b); }
   static std::uint64_t bits(M m) { return static_cast<std::uint32_t>(_mm256_movemask_ps(m)); }
 };
+struct Lanes8 {
+  static constexpr int kWidth = 8;
+  using F = __m256;
+  using M = __m256;  // all-ones or all-zeros per lane
+  static F load(const float* p) { return _mm256_load_ps(p); }
+  static F set(float x) { return _mm256_set1_ps(x); }
+  static F add(F a, F b) { return _mm256_add_ps(a, b); }
+  static F sub(F a, F b) { return _mm256_sub_ps(a, b); }
+  static F mul(F a, F b) { return _mm256_mul_ps(a, b); }
+  static F div(F a, F b) { return _mm256_div_ps(a, b); }
+  static F sqrt(F a) { return _mm256_sqrt_ps(a); }
+  static F abs(F a) { return _mm256_andnot_ps(_mm256_set1_ps(-0.0f), a); }
+  static M ge(F a, F b) { return _mm256_cmp_ps(a, b, _CMP_GE_OQ); }
+  static M le(F a, F b) { return _mm256_cmp_ps(a, b, _CMP_LE_OQ); }
+  static M gt(F a, F b) { return _mm256_cmp_ps(a, b, _CMP_GT_OQ); }
+  static M lt(F a, F b) { return _mm256_cmp_ps(a, b, _CMP_LT_OQ); }
+  static M both(M a, M b) { return _mm256_and_ps(a, b); }
+  static M either(M a, M b) { return _mm256_or_ps(a, b); }
+  static M not_(M a) { return _mm256_xor_ps(a, _mm256_castsi256_ps(_mm256_set1_epi32(-1))); }
+  static M from_bits(std::uint32_t b) {
+    const __m256i bit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+    return _mm256_castsi256_ps(_mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(static_cast<int>(b)), bit), bit));
+  }
+  static void store(float* p, F a) { _mm256_store_ps(p, a); }
+  static std::uint64_t bits(M m) { return static_cast<std::uint32_t>(_mm256_movemask_ps(m)); }
+};
 #elif EXAO_KERNEL_LANES == 4
 struct Lanes {
   static constexpr int kWidth = 4;
@@ -78,6 +144,32 @@ struct Lanes {
   static M ge(F a, F b) { return _mm_cmpge_ps(a, b); }
   static M le(F a, F b) { return _mm_cmple_ps(a, b); }
   static M both(M a, M b) { return _mm_and_ps(a, b); }
+  static std::uint64_t bits(M m) { return static_cast<std::uint32_t>(_mm_movemask_ps(m)); }
+};
+struct Lanes8 {
+  static constexpr int kWidth = 4;
+  using F = __m128;
+  using M = __m128;
+  static F load(const float* p) { return _mm_load_ps(p); }
+  static F set(float x) { return _mm_set1_ps(x); }
+  static F add(F a, F b) { return _mm_add_ps(a, b); }
+  static F sub(F a, F b) { return _mm_sub_ps(a, b); }
+  static F mul(F a, F b) { return _mm_mul_ps(a, b); }
+  static F div(F a, F b) { return _mm_div_ps(a, b); }
+  static F sqrt(F a) { return _mm_sqrt_ps(a); }
+  static F abs(F a) { return _mm_andnot_ps(_mm_set1_ps(-0.0f), a); }
+  static M ge(F a, F b) { return _mm_cmpge_ps(a, b); }
+  static M le(F a, F b) { return _mm_cmple_ps(a, b); }
+  static M gt(F a, F b) { return _mm_cmpgt_ps(a, b); }
+  static M lt(F a, F b) { return _mm_cmplt_ps(a, b); }
+  static M both(M a, M b) { return _mm_and_ps(a, b); }
+  static M either(M a, M b) { return _mm_or_ps(a, b); }
+  static M not_(M a) { return _mm_xor_ps(a, _mm_castsi128_ps(_mm_set1_epi32(-1))); }
+  static M from_bits(std::uint32_t b) {
+    const __m128i bit = _mm_setr_epi32(1, 2, 4, 8);
+    return _mm_castsi128_ps(_mm_cmpeq_epi32(_mm_and_si128(_mm_set1_epi32(static_cast<int>(b)), bit), bit));
+  }
+  static void store(float* p, F a) { _mm_store_ps(p, a); }
   static std::uint64_t bits(M m) { return static_cast<std::uint32_t>(_mm_movemask_ps(m)); }
 };
 #else

@@ -232,6 +232,12 @@ int main(int argc, char** argv) {
   exao_options_init(&options);
   options.samples = 128;
   options.radius = 0.8f;
+  if (options.backend != EXAO_BACKEND_AUTO) {
+    fprintf(stderr, "FAIL: the default backend is %d, not EXAO_BACKEND_AUTO\n", (int)options.backend);
+    return 1;
+  }
+  same_as_exao_query(argv[1], argv[2], &options, "-n 128 -r 0.8");
+  options.backend = EXAO_BACKEND_BVH;
   options.mask_mode = EXAO_MASKS_LUT;
   same_as_exao_query(argv[1], argv[2], &options, "-n 128 -r 0.8 --masks lut --method bvh");
   options.samples = 1024;

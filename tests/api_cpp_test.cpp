@@ -138,6 +138,7 @@ TEST(ApiCpp, SameAsExaoQueryBvhLut) {
   Options o;
   o.samples = 128;
   o.radius = 0.8f;
+  o.backend = Backend::Bvh;
   o.mask_mode = MaskMode::Lut;
   expect_same_as_exao_query({"room", o, "-n 128 -r 0.8 --masks lut --method bvh"}, 1500);
 }
@@ -145,8 +146,15 @@ TEST(ApiCpp, SameAsExaoQueryBvhLut) {
 TEST(ApiCpp, SameAsExaoQueryBvhExactDefaults) {
   Options o;  // default radius (5% of the diagonal), offset and mask mode (exact), N = 64
   o.samples = 64;
+  o.backend = Backend::Bvh;
   EXPECT_EQ(o.mask_mode, MaskMode::Exact);
   expect_same_as_exao_query({"room", o, "-n 64 --method bvh"}, 1500);
+}
+
+TEST(ApiCpp, SameAsExaoQueryAutoByDefault) {
+  Options o;  // every default: the auto backend, as exao query's
+  EXPECT_EQ(o.backend, Backend::Auto);
+  expect_same_as_exao_query({"room", o, ""}, 1500);
 }
 
 TEST(ApiCpp, SameAsExaoQueryBruteN256) {

@@ -19,6 +19,7 @@ struct BvhAo {
       : engine(build(scene, radius, samples, mode)) {}
   static engine::Engine build(const Scene& scene, float radius, int samples, lut::MaskMode mode) {
     engine::Options options;
+    options.method = engine::Method::Bvh;
     options.radius = {radius, false};
     options.samples = samples;
     options.masks = mode;
