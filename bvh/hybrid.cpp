@@ -68,8 +68,8 @@ void HybridController::record(int task_level, std::size_t receivers, double mask
   }
   ++tasks;
   level = best;
-  if (tasks % 4 == 0) {
-    const int step = (tasks / 4) % 2 == 0 ? 1 : -1;
+  if (tasks % kExplorePeriod == 0) {
+    const int step = (tasks / kExplorePeriod) % 2 == 0 ? 1 : -1;
     level = best + step >= 0 && best + step < kLevels ? best + step : best - step;
   }
 }

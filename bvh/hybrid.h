@@ -17,7 +17,7 @@
 // (where masks decide the open rays too, and Embree casts only the grazing ones).
 // The allowance is one of five levels, 0, N/16, N/4, N and unbounded (masks to the end), and
 // which one pays is measured, not predicted: a thread keeps the running average of the wall time
-// per receiver of each level on its recent tasks, follows the cheapest, and gives every fourth
+// per receiver of each level on its recent tasks, follows the cheapest, and gives every twelfth
 // task to a neighbouring level (alternately above and below), so that a change of geometry
 // along the Morton order is noticed (neighbouring receivers see the same geometry: what the last
 // tasks cost is the best guess for the next). The prices are ratios of sums over recent tasks
@@ -54,6 +54,10 @@ enum class HybridPolicy {
 struct HybridController {
   static constexpr int kLevels = 5;
   static constexpr int kUnbounded = kLevels - 1;
+  /// Every kExplorePeriod-th task tries a level next to the best: often enough to follow the
+  /// geometry along the Morton order (a few hundred receivers), rare enough that trying a worse
+  /// level costs a few percent.
+  static constexpr std::uint64_t kExplorePeriod = 12;
   float rays_per_unit = 0.5f;   // price of one unit of mask work in Embree rays (measured)
   double cost[kLevels] = {};    // ns per receiver of each allowance level, running average (0: not tried)
   int level = kUnbounded;       // the level of the next task
