@@ -1,7 +1,7 @@
 #pragma once
 // exao::ssao::vao: volumetric AO as seed 001 builds it on Loos & Sloan's volumetric obscurance
 // (2010). Eight line samples on a disc of radius r facing the eye, angles 2 pi i / 8 + xi (xi per
-// pixel of a 4 x 4 block), radii sqrt(1 - psi_i^(2/3)) for the base-2 van der Corput numbers
+// pixel of a 4 x 4 block, over a full turn: see vao_sample), radii sqrt(1 - psi_i^(2/3)) for the base-2 van der Corput numbers
 // psi = 1/16, 9/16, ... 15/16 (their Eq. 4-5). Each line crosses the unit ball over a column of
 // height h = 2 sqrt(1 - rho^2); only the part above the tangent plane counts (hemisphere
 // sampling), AO = 2/8 sum u_i / h_i with u_i the unoccupied length in front of the depth sample
@@ -47,9 +47,11 @@ struct VaoSample {
 [[nodiscard]] double column_z(const View& view, const Settings& settings, std::size_t p, const glm::dvec3& point);
 
 struct VaoResult {
-  // VAO (flagged samples after the halo model), before any blur and not clamped: an open surface
-  // seen at an angle gets 2/8 x (samples above its plane), 0.75 or 1.25 as often as 1 over a 4 x 4
-  // block, and the blur, not a clamp, is what averages that to 1 (compare_view clamps after it).
+  // VAO (flagged samples after the halo model), before any blur and not clamped: on an open
+  // surface seen at an angle a pixel's eight samples estimate the half ball's volume only on
+  // average (values from about 0.75 to 1.25), and the estimator is unbiased (its mean over a
+  // 4 x 4 block is 1), so a clamp before the blur would bias it dark: compare_view clamps after.
+  // A pixel whose ball projects to less than a pixel is 1, like HBAO's.
   std::vector<float> ao;
   std::vector<float> unflagged;        // 2/8 sum over unflagged samples only: seed 001's phase 1
   std::vector<std::uint8_t> flags;     // bit i: sample i's surface lies in front of the constant area
