@@ -28,6 +28,17 @@ double column_z(const View& view, const Settings& settings, std::size_t p, const
   return glm::dot(point - P, e) / settings.radius;
 }
 
+double surface_z(const View& view, const Settings& settings, std::size_t p, const VaoSample& sample, std::size_t q) {
+  const glm::dvec3 P(view.position[p]);
+  const glm::dvec3 e = glm::normalize(view.eye - P);
+  const glm::dvec3 S(view.position[q]), m(view.normal[q]);
+  const double along = glm::dot(e, m);
+  const double fallback = column_z(view, settings, p, S);
+  if (!(std::abs(along) > 1e-6)) return fallback;
+  const double z = glm::dot(S - sample.point, m) / (settings.radius * along);
+  return std::isfinite(z) ? z : fallback;
+}
+
 VaoSample vao_sample(const View& view, const Settings& settings, std::size_t p, int i) {
   VaoSample s;
   const glm::dvec3 P(view.position[p]);
@@ -49,6 +60,7 @@ VaoSample vao_sample(const View& view, const Settings& settings, std::size_t p, 
   const double rho = std::sqrt(1.0 - std::pow(kPsi[i], 2.0 / 3.0));
   const glm::dvec3 offset = settings.radius * rho * (std::cos(angle) * u + std::sin(angle) * v);
   s.height = 2.0 * std::sqrt(1.0 - rho * rho);
+  s.point = P + offset;
   const double facing = glm::dot(e, n);
   if (!(facing > 1e-6)) return s;
   const double z_plane = -glm::dot(offset, n) / (settings.radius * facing);
@@ -92,7 +104,7 @@ VaoResult vao(const View& view, const Settings& settings, const VaoOptions& opti
       // (an open floor at r = 0.05 averaged 0.89); HBAO skips its own pixel the same way.
       double u = s.z_hi - s.z_lo;
       if (s.pixel >= 0 && static_cast<std::size_t>(s.pixel) != p && view.valid[static_cast<std::size_t>(s.pixel)]) {
-        const double z = column_z(view, settings, p, glm::dvec3(view.position[static_cast<std::size_t>(s.pixel)]));
+        const double z = surface_z(view, settings, p, s, static_cast<std::size_t>(s.pixel));
         u = unoccupied(s, z, options.thickness);
         if (z > 1.0 + options.thickness) {
           flags = static_cast<std::uint8_t>(flags | (1u << i));

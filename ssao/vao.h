@@ -34,6 +34,7 @@ struct VaoSample {
   bool valid = false;        // part of the column lies above the tangent plane
   std::int64_t pixel = -1;   // the pixel under the sample point, -1 off screen
   double z_lo = 0.0, z_hi = 0.0, height = 1.0;  // hemisphere part [z_lo, z_hi] of the column, full height h
+  glm::dvec3 point{0.0};     // the sample point P + offset on the disc, the column's z = 0
 };
 
 /// Sample i (0 .. 7) of pixel p, a valid pixel of the view.
@@ -45,6 +46,13 @@ struct VaoSample {
 
 /// z of a world point on the sample's column: (D - P) . e / r.
 [[nodiscard]] double column_z(const View& view, const Settings& settings, std::size_t p, const glm::dvec3& point);
+
+/// z where the sample's column meets the surface pixel q holds: the plane through q's point
+/// with q's normal, extended from q's centre to the column (column_z of q's point when the
+/// column runs along that plane). Reading q's centre instead would be up to 0.7 pixels off the
+/// column, which on a surface seen at a grazing angle is a depth error larger than a small r:
+/// an open floor seen at 20 degrees averaged 0.97 at r = 0.1, and the error set flags.
+[[nodiscard]] double surface_z(const View& view, const Settings& settings, std::size_t p, const VaoSample& sample, std::size_t q);
 
 struct VaoResult {
   // VAO (flagged samples after the halo model), before any blur and not clamped: on an open
