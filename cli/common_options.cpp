@@ -13,7 +13,7 @@
 namespace exao::cli {
 
 void add_scene_options(CLI::App& app, SceneOptions& options) {
-  app.add_option("scene", options.scene, "A built-in scene (room, plane-pair, sphere-on-plane, corners) or a .gltf/.glb/.obj/.ply/.off/.stl file")
+  app.add_option("scene", options.scene, "A built-in scene (room, plane-pair, sphere-on-plane, hidden-box, corners) or a .gltf/.glb/.obj/.ply/.off/.stl file")
       ->capture_default_str();
   app.add_option("--sided", options.sided, "Triangle sidedness: auto (glTF doubleSided; other formats two-sided), one, two")
       ->check(CLI::IsMember({"auto", "one", "two"}))

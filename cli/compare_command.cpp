@@ -42,6 +42,7 @@ struct CompareCommandOptions {
   int steps = 4;
   double bias = 0.1;
   bool cosine = false;
+  std::string angles = "view";
   double thickness = 0.5;
   int sd_samples = 4;
   double sd_alpha = 0.2;
@@ -65,7 +66,7 @@ Result<void> write_text(const std::string& text, const std::string& path) {
 Error as_flag_error(const Error& error) {
   static constexpr std::pair<const char*, const char*> kFlags[] = {
       {"methods:", "--methods:"},         {"directions:", "--directions:"}, {"steps:", "--steps:"},
-      {"bias:", "--bias:"},               {"thickness:", "--thickness:"},   {"blur:", "--blur:"},
+      {"bias:", "--bias:"},               {"cosine:", "--cosine:"},         {"thickness:", "--thickness:"},   {"blur:", "--blur:"},
       {"stochastic depth samples:", "--sd-samples:"}, {"stochastic depth alpha:", "--sd-alpha:"},
       {"key cell:", "--key-cell:"},       {"radius:", "--radius:"},
   };
@@ -117,6 +118,7 @@ int run_compare(const CompareCommandOptions& o) {
   Result<std::vector<ssao::Method>> methods = ssao::parse_methods(o.methods);
   if (!methods) return report(as_flag_error(methods.error()));
   if (o.stereo && !(std::isfinite(*o.stereo) && *o.stereo > 0.0)) return report(Error{"--stereo: the eye distance must be greater than 0"});
+  if (o.angles != "view" && o.angles != "tangent") return report(Error{"--angles: must be view or tangent, got '" + o.angles + "'"});
   if (o.key != "pixel" && o.key != "world") return report(Error{"--key: must be pixel or world, got '" + o.key + "'"});
   if (!(std::isfinite(o.key_cell) && o.key_cell > 0.0)) return report(Error{"--key-cell: must be greater than 0"});
   if (auto ok = check_output(o.output, o.scene.scene); !ok) return report(ok.error());
@@ -153,6 +155,7 @@ int run_compare(const CompareCommandOptions& o) {
   options.hbao.steps = options.hbao_plus.steps = o.steps;
   options.hbao.bias = options.hbao_plus.bias = o.bias;
   options.hbao.cosine = o.cosine;
+  options.hbao.angles = o.angles == "tangent" ? ssao::Angles::Tangent : ssao::Angles::ViewPlane;
   options.vao.thickness = o.thickness;
   options.stochastic.samples = o.sd_samples;
   options.stochastic.alpha = o.sd_alpha;
@@ -220,7 +223,7 @@ int run_compare(const CompareCommandOptions& o) {
   j["falloff"] = falloff_name(rays->pattern.falloff);
   j["samples"] = rays->count();
   j["key"] = o.key;
-  j["parameters"] = {{"directions", o.directions}, {"steps", o.steps}, {"bias", o.bias}, {"cosine", o.cosine},
+  j["parameters"] = {{"directions", o.directions}, {"steps", o.steps}, {"bias", o.bias}, {"angles", o.angles}, {"cosine", o.cosine},
                      {"thickness", o.thickness}, {"sd_samples", o.sd_samples}, {"sd_alpha", o.sd_alpha}, {"blur", o.blur}};
   j["gbuffer_seconds"] = main.gbuffer_seconds;
   j["abuffer_seconds"] = main.fragment_seconds;
@@ -245,7 +248,8 @@ int run_compare(const CompareCommandOptions& o) {
     const ssao::ErrorStats& s = stats[i];
     nlohmann::json row{{"name", ssao::method_name(m.method)}, {"label", ssao::method_label(m.method)},
                        {"mean_abs", s.mean_abs}, {"bias", s.bias}, {"rmse", s.rmse}, {"within_255", s.within_255},
-                       {"within_16", s.within_16}, {"seconds", m.seconds}};
+                       {"within_16", s.within_16}, {"seconds", m.seconds},
+                       {"map_seconds", m.map_seconds}};
     if (m.method == ssao::Method::SdSvao || m.method == ssao::Method::RtSvao) row["flagged_pixels"] = m.flagged;
     const auto e = stereo_of(i + 1);
     if (e) row["stereo"] = stereo_json(*e);
@@ -286,8 +290,11 @@ Command add_compare_command(CLI::App& app) {
   command->add_option("-o,--output", o->output, "Output folder")->capture_default_str();
   command->add_option("--directions", o->directions, "HBAO/HBAO+ directions per pixel")->capture_default_str();
   command->add_option("--steps", o->steps, "HBAO/HBAO+ steps per direction")->capture_default_str();
-  command->add_option("--bias", o->bias, "HBAO starting horizon (sine) and HBAO+ NdotV bias")->capture_default_str();
-  command->add_flag("--cosine", o->cosine, "HBAO family: cosine-weighted horizons (sin^2) instead of the papers' sin");
+  command->add_option("--bias", o->bias, "HBAO angle bias (radians above the tangent) and HBAO+ NdotV bias")->capture_default_str();
+  command->add_option("--angles", o->angles,
+                      "HBAO family: horizon angles from the view-space XY plane (view, seed 000's Alg. 2) or from the tangent plane (tangent)")
+      ->capture_default_str();
+  command->add_flag("--cosine", o->cosine, "HBAO family with --angles tangent: cosine-weighted horizons (sin^2) instead of the papers' sin");
   command->add_option("--thickness", o->thickness, "VAO thickness tau of the halo model, 0 to 1")->capture_default_str();
   command->add_option("--sd-samples", o->sd_samples, "Stochastic depth samples per pixel S, 1 to 16")->capture_default_str();
   command->add_option("--sd-alpha", o->sd_alpha, "Stochastic depth keep probability alpha, (0, 1]")->capture_default_str();

@@ -10,10 +10,14 @@ struct AllFragments {
   const FragmentBuffer* fragments;
   const Scene* scene;
   template <class Emit>
-  void layers(std::size_t q, Emit&& emit) const {
+  void layers(const View& view, std::size_t q, const glm::dvec2& c, Emit&& emit) const {
     for (const Fragment& f : fragments->at(q)) {
       const float opacity = scene->opacity(f.triangle);
-      if (opacity > 0.0f) emit(static_cast<double>(f.depth), static_cast<double>(opacity));
+      if (!(opacity > 0.0f)) continue;
+      // The fragment's triangle's plane, extended to the sample point c (ssao/horizon_march.h).
+      const auto v = scene->triangle(f.triangle);
+      const glm::dvec3 normal = glm::cross(glm::dvec3(v[1]) - glm::dvec3(v[0]), glm::dvec3(v[2]) - glm::dvec3(v[0]));
+      emit(view.point_on_plane(c, view.point_at(q, static_cast<double>(f.depth)), normal), static_cast<double>(opacity));
     }
   }
 };

@@ -5,8 +5,13 @@
 // occlude most is kept (their Alg. 1, max over the list), its gain weighted by its material's
 // opacity (their Eq. 1, alpha_omega: glTF BLEND alpha, MASK by its cutoff; core/scene.h). A
 // semi-transparent occluder still raises the horizon: HBAO has one horizon per direction, so a
-// later occluder behind it gains only above it. Receivers are treated as opaque (their opaque
-// mode: "the shadowing factor is only computed for the first layer").
+// later occluder behind it gains only above it, and is under-weighted against Eq. 1 (keeping
+// Eq. 1 exactly would need every sample's angle and opacity per direction, and the slice's
+// occlusion as the integral over elevations of 1 - prod(1 - alpha W) of the samples above).
+// With opacities 0 and 1 only (glTF MASK cut-outs) this is exact: a fragment below its cutoff is
+// skipped and one above it is opaque. Receivers are treated as opaque (their opaque mode: "the
+// shadowing factor is only computed for the first layer"). Each fragment's sample is its
+// triangle's plane met by the ray through the step's screen point (ssao/horizon_march.h).
 
 #include <vector>
 

@@ -51,7 +51,8 @@ using ExactAo = std::function<std::vector<float>(std::span<const Receiver> recei
 struct MethodResult {
   Method method;
   std::vector<float> ao;   // per pixel, after the blur; 1 where no triangle is seen
-  double seconds = 0.0;    // the method's own passes (see compare_view)
+  double seconds = 0.0;    // the method's own passes, its maps' geometry pass included (see compare_view)
+  double map_seconds = 0.0; // of which the A-buffer rasterisation its maps are drawn from
   std::size_t flagged = 0; // SD-SVAO and RT-SVAO: pixels phase 1 flagged
 };
 
@@ -65,9 +66,11 @@ struct ViewResult {
 };
 
 /// The G-buffer of `camera` (width x height), its exact AO, and every method of `options` (which
-/// must pass check). Times: SD-HBAO counts its stochastic map (drawn from the A-buffer) and its
-/// walk; SD-SVAO phase 1, the stenciled map and phase 2; RT-SVAO phase 1 and the exact AO of
-/// the flagged pixels; A-buffer AO the A-buffer and its walk; each its blur.
+/// must pass check). Times: HBAO, HBAO+ and VAO their walk; SD-HBAO the A-buffer's
+/// rasterisation, its stochastic map drawn from it, and its walk; SD-SVAO phase 1, the A-buffer's
+/// rasterisation, the stenciled map and phase 2; RT-SVAO phase 1 and the exact AO of the flagged
+/// pixels; A-buffer AO the A-buffer's rasterisation and its walk; each its blur. The G-buffer is
+/// shared and counted apart (gbuffer_seconds).
 [[nodiscard]] ViewResult compare_view(const Scene& scene, const Camera& camera, int width, int height,
                                       const CompareOptions& options, const ExactAo& exact);
 

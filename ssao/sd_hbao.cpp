@@ -9,9 +9,10 @@ struct StochasticLayers {
   static constexpr bool kAllLayers = false;
   const StochasticDepth* map;
   template <class Emit>
-  void layers(std::size_t q, Emit&& emit) const {
+  void layers(const View& view, std::size_t q, const glm::dvec2&, Emit&& emit) const {
+    // Depths only, no plane: at q's centre (ssao/horizon_march.h).
     for (const float w : map->at(q)) {
-      if (w != kNoDepth) emit(static_cast<double>(w), 1.0);
+      if (w != kNoDepth) emit(view.point_at(q, static_cast<double>(w)), 1.0);
     }
   }
 };

@@ -36,14 +36,22 @@ struct Settings {
 
 /// A number in [0, 1) that repeats every 4 x 4 pixels (stream k), like a tiled noise texture:
 /// seeds 000 and 001 randomise directions per pixel of a 4 x 4 block and let the blur remove it.
-/// Stratified: the 16 pixels of a block take the 16 values (b + 1/2) / 16 of a 4 x 4 Bayer
-/// matrix b, shifted (mod 1) by a constant per stream.
+/// Stratified: the 16 pixels of a block take the 16 values (b + 1/2) / 16, shifted (mod 1) by a
+/// constant per stream, where b is the cell's entry of a 4 x 4 Bayer matrix for even streams and
+/// that entry with its 4 bits reversed for odd ones. A method that needs two numbers per pixel
+/// (HBAO's rotation, stream 0, and its step offset, stream 1) so gets a Hammersley set over the
+/// block, (b / 16, reverse(b) / 16): each number alone takes all 16 strata, and the pairs are
+/// jointly stratified, not the one number shifted (which would tie the first step's distance to
+/// the direction). Bavoil et al.'s and NVIDIA's shaders read both from one random texture; seed
+/// 000 leaves the noise open.
 [[nodiscard]] inline double block_jitter(std::size_t pixel, int width, int k) {
   static constexpr int kBayer[16] = {0, 8, 2, 10, 12, 4, 14, 6, 3, 11, 1, 9, 15, 7, 13, 5};
   const std::size_t x = pixel % static_cast<std::size_t>(width), y = pixel / static_cast<std::size_t>(width);
   const std::size_t cell = (y & 3u) * 4u + (x & 3u);
+  int b = kBayer[cell];
+  if (k & 1) b = ((b & 1) << 3) | ((b & 2) << 1) | ((b & 4) >> 1) | ((b & 8) >> 3);
   const double shift = unit_double(mix64(static_cast<std::uint64_t>(k) + 1));
-  const double v = (kBayer[cell] + 0.5) / 16.0 + shift;
+  const double v = (b + 0.5) / 16.0 + shift;
   return v - std::floor(v);
 }
 

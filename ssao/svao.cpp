@@ -18,7 +18,8 @@ std::vector<float> sd_svao(const View& view, const VaoResult& phase1, const Stoc
       if (!((flags >> i) & 1u)) continue;
       const VaoSample s = vao_sample(view, settings, p, i);
       const auto q = static_cast<std::size_t>(s.pixel);  // flagged: on screen, a surface seen
-      double u = unoccupied(s, column_z(view, settings, p, glm::dvec3(view.position[q])), options.thickness);
+      // The first layer as phase 1 read it; the stochastic depths, which carry no plane, at q's centre.
+      double u = unoccupied(s, surface_z(view, settings, p, s, q), options.thickness);
       for (const float w : map.at(q)) {
         if (w == kNoDepth) continue;
         u = std::min(u, unoccupied(s, column_z(view, settings, p, view.point_at(q, w)), options.thickness));

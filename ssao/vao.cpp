@@ -28,6 +28,17 @@ double column_z(const View& view, const Settings& settings, std::size_t p, const
   return glm::dot(point - P, e) / settings.radius;
 }
 
+double surface_z(const View& view, const Settings& settings, std::size_t p, const VaoSample& sample, std::size_t q) {
+  const glm::dvec3 P(view.position[p]);
+  const glm::dvec3 e = glm::normalize(view.eye - P);
+  const glm::dvec3 S(view.position[q]), m(view.normal[q]);
+  const double along = glm::dot(e, m);
+  const double fallback = column_z(view, settings, p, S);
+  if (!(std::abs(along) > 1e-6)) return fallback;
+  const double z = glm::dot(S - sample.point, m) / (settings.radius * along);
+  return std::isfinite(z) ? z : fallback;
+}
+
 VaoSample vao_sample(const View& view, const Settings& settings, std::size_t p, int i) {
   VaoSample s;
   const glm::dvec3 P(view.position[p]);
@@ -38,10 +49,18 @@ VaoSample vao_sample(const View& view, const Settings& settings, std::size_t p, 
   const double a = -1.0 / (sign + e.z), b = e.x * e.y * a;
   const glm::dvec3 u(1.0 + sign * e.x * e.x * a, sign * b, -sign * e.x);
   const glm::dvec3 v(b, sign + e.y * e.y * a, -e.y);
-  const double angle = 2.0 * std::numbers::pi * (i + block_jitter(p, view.width, 2)) / kVaoSamples;
+  // Seed 001's Eq. 4 rotates the samples by a per-pixel xi without giving its range; the
+  // authors' public code rotates by noise x 2 pi, and only a full turn is unbiased: sample i's
+  // angle is then uniform, and its column cut by a plane through P at angle theta and at
+  // theta + pi add up to the whole column, so each sample's expected share is exactly 1/2 on an
+  // open plane (with xi in [0, 2 pi / 8) each sample stays in its own 45-degree sector, and a
+  // tilted open plane averages 0.95-1.05). Over a 4 x 4 block xi takes 16 equally spaced values,
+  // so the angles theta and theta + pi both occur: the block's mean is 1 up to perspective.
+  const double angle = 2.0 * std::numbers::pi * (static_cast<double>(i) / kVaoSamples + block_jitter(p, view.width, 2));
   const double rho = std::sqrt(1.0 - std::pow(kPsi[i], 2.0 / 3.0));
   const glm::dvec3 offset = settings.radius * rho * (std::cos(angle) * u + std::sin(angle) * v);
   s.height = 2.0 * std::sqrt(1.0 - rho * rho);
+  s.point = P + offset;
   const double facing = glm::dot(e, n);
   if (!(facing > 1e-6)) return s;
   const double z_plane = -glm::dot(offset, n) / (settings.radius * facing);
@@ -70,14 +89,22 @@ VaoResult vao(const View& view, const Settings& settings, const VaoOptions& opti
   out.stencil.assign(n, 0);
   tbb::parallel_for(std::size_t{0}, n, [&](std::size_t p) {
     if (!view.valid[p]) return;
+    // HBAO's guards (ssao/horizon_march.h), which seed 001 leaves open: a ball that projects to
+    // less than a pixel has no neighbour to read, so the pixel is open, as HBAO+ does.
+    if (settings.radius * view.pixels_per_unit(view.depth[p]) < 1.0) return;
     double all = 0.0, unflagged = 0.0;
     std::uint8_t flags = 0;
     for (int i = 0; i < kVaoSamples; ++i) {
       const VaoSample s = vao_sample(view, settings, p, i);
       if (!s.valid) continue;
-      double u = s.z_hi - s.z_lo;  // off screen or background: nothing in the column
-      if (s.pixel >= 0 && view.valid[static_cast<std::size_t>(s.pixel)]) {
-        const double z = column_z(view, settings, p, glm::dvec3(view.position[static_cast<std::size_t>(s.pixel)]));
+      // Off screen, background, or the receiver's own pixel: nothing in the column above the
+      // tangent plane. The own pixel's depth is the receiver itself (z = 0), not the surface
+      // under the sample point, so reading it would cut every column whose plane part lies
+      // below the receiver at z = 0 and darken open surfaces whenever r projects to a few pixels
+      // (an open floor at r = 0.05 averaged 0.89); HBAO skips its own pixel the same way.
+      double u = s.z_hi - s.z_lo;
+      if (s.pixel >= 0 && static_cast<std::size_t>(s.pixel) != p && view.valid[static_cast<std::size_t>(s.pixel)]) {
+        const double z = surface_z(view, settings, p, s, static_cast<std::size_t>(s.pixel));
         u = unoccupied(s, z, options.thickness);
         if (z > 1.0 + options.thickness) {
           flags = static_cast<std::uint8_t>(flags | (1u << i));

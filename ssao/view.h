@@ -60,6 +60,26 @@ struct View {
     const double sy = (1.0 - 2.0 * (y + 0.5) / height) * tan_half;
     return eye + w * (forward + sx * right + sy * up);
   }
+  /// The (unnormalised) direction of the ray through continuous pixel coordinates c; its
+  /// component along forward is 1, so eye + w * ray(c) is at view depth w.
+  [[nodiscard]] glm::dvec3 ray(const glm::dvec2& c) const {
+    const double sx = (2.0 * c.x / width - 1.0) * tan_half * aspect;
+    const double sy = (1.0 - 2.0 * c.y / height) * tan_half;
+    return forward + sx * right + sy * up;
+  }
+  /// Where the ray through c meets the plane through `on_plane` with normal `normal`: the
+  /// surface a pixel holds, extended from its centre to a point c inside it (a plane's points
+  /// along a screen line then lie exactly on one line in space). `on_plane` itself when the ray
+  /// grazes the plane, i.e. when the view depth would change by more than a factor of 2.
+  [[nodiscard]] glm::dvec3 point_on_plane(const glm::dvec2& c, const glm::dvec3& on_plane, const glm::dvec3& plane_normal) const {
+    const glm::dvec3 d = ray(c);
+    const double along = glm::dot(d, plane_normal);
+    const double w0 = glm::dot(on_plane - eye, forward);
+    if (along == 0.0) return on_plane;
+    const double w = glm::dot(on_plane - eye, plane_normal) / along;
+    if (!(w > 0.5 * w0 && w < 2.0 * w0)) return on_plane;
+    return eye + w * d;
+  }
   /// Pixels per world unit at view depth w (a length r at depth w covers r * this pixels).
   [[nodiscard]] double pixels_per_unit(double w) const { return 0.5 * height / (tan_half * w); }
 };
