@@ -40,7 +40,6 @@ namespace {
 
 const EngineInfo kEmptyInfo{};
 
-[[nodiscard]] bool finite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 // --- Options ------------------------------------------------------------------------------------
 

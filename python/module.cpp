@@ -307,7 +307,7 @@ class PyScene {
   std::list<std::pair<std::string, std::shared_ptr<const engine::Engine>>> engines_;
 };
 
-PyScene from_arrays(const py::object& vertices_object, const py::object& faces_object, const py::object& two_sided) {
+std::unique_ptr<PyScene> from_arrays(const py::object& vertices_object, const py::object& faces_object, const py::object& two_sided) {
   const py::array_t<float> vertices = float_rows(vertices_object, "vertices");
   if (!py::isinstance<py::array>(faces_object)) {
     throw py::type_error("faces: expected a numpy uint32 array of shape (m, 3), got " +
@@ -371,10 +371,10 @@ PyScene from_arrays(const py::object& vertices_object, const py::object& faces_o
     scene.add_triangle(corner[0], corner[1], corner[2], two, -1);
   }
   if (scene.triangle_count() == 0) throw py::value_error("faces: every triangle has zero area");
-  return PyScene(std::move(scene));
+  return std::make_unique<PyScene>(std::move(scene));
 }
 
-PyScene open_scene(const std::string& path) {
+std::unique_ptr<PyScene> open_scene(const std::string& path) {
   Result<Scene> scene;
   {
     py::gil_scoped_release release;
@@ -393,7 +393,7 @@ PyScene open_scene(const std::string& path) {
     }
     throw py::error_already_set();
   }
-  return PyScene(std::move(*scene));
+  return std::make_unique<PyScene>(std::move(*scene));
 }
 
 /// The receivers of a query: points and normals (n, 3), keys (n,) or None for 0..n-1.
@@ -493,12 +493,12 @@ PYBIND11_MODULE(_exao, m) {
               py::array_t<std::uint64_t> out({n, words});
               outputs.masks = std::span<std::uint64_t>(out.mutable_data(), static_cast<std::size_t>(n * words));
               if (n > 0) run_query(*engine, receivers, outputs, progress);
-              return std::move(out);
+              return out;
             }
             py::array_t<float> out(n);
             outputs.ao = std::span<float>(out.mutable_data(), static_cast<std::size_t>(n));
             if (n > 0) run_query(*engine, receivers, outputs, progress);
-            return std::move(out);
+            return out;
           },
           py::arg("points"), py::arg("normals"), py::arg("keys"), py::arg("masks"), py::arg("samples"), py::arg("radius"),
           py::arg("falloff"), py::arg("method"), py::arg("seed"), py::arg("offset"), py::arg("sided"), py::arg("mask_mode"),

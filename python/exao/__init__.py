@@ -127,6 +127,8 @@ def _flags(options):
             args.append(flag)
         elif isinstance(value, (list, tuple)):
             args.append(flag + "=" + ",".join(repr(float(v)) if isinstance(v, float) else str(v) for v in value))
+        elif value == "":
+            args += [flag, ""]  # an empty value ("--preview ''": none), which "--flag=" does not carry
         else:
             args.append(flag + "=" + (repr(value) if isinstance(value, float) else str(value)))
     return args

@@ -114,7 +114,7 @@ def test_ao_equals_exao_query(tmp_path):
                     "-o", tmp_path / "ao.txt", "-n", "256", "-r", "3%"], check=True, capture_output=True)
     expected = np.loadtxt(tmp_path / "ao.txt", dtype=np.float32)
     got = room.ao(points, normals, keys=keys, samples=256, radius="3%")
-    assert 0.0 < got.min() < 1.0, "no receiver is partly occluded: the test would prove nothing"
+    assert ((got > 0.0) & (got < 1.0)).any(), "no receiver is partly occluded: the test would prove nothing"
     np.testing.assert_array_equal(got, expected)
 
 
@@ -391,7 +391,7 @@ def test_bake_writes_a_glb_and_names_bad_options(tmp_path):
 
 def test_bake_texture_takes_the_programs_flags(tmp_path):
     out = tmp_path / "room-tex.glb"
-    exao.bake("room", out, texture=64, texel_samples=1, samples=32, preview="", ground=True)
+    exao.bake("room", out, texture=256, texel_samples=1, margin=1, samples=32, preview="", ground=True)
     assert out.read_bytes()[:4] == b"glTF"
     assert any(p.suffix == ".png" for p in tmp_path.iterdir()), "the AO map beside the output"
 
