@@ -23,6 +23,7 @@
 #include "core/receiver_frame.h"
 #include "core/scene.h"
 #include "engine/engine.h"
+#include "engine/receiver_check.h"
 #include "exao/exao.hpp"
 
 namespace exao::api {
@@ -39,7 +40,6 @@ namespace {
 
 const EngineInfo kEmptyInfo{};
 
-[[nodiscard]] bool finite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 // --- Options ------------------------------------------------------------------------------------
 
@@ -175,17 +175,9 @@ constexpr std::array<std::pair<std::string_view, std::string_view>, 12> kOptionN
 
 // --- Receivers ----------------------------------------------------------------------------------
 
-// Why a receiver cannot be queried, or nullptr. The frame normalises n: its squared length must
-// be a normal float for 1/sqrt to be finite and exact enough.
 [[nodiscard]] const char* receiver_problem(const Receiver& r) {
-  if (!finite(r.position)) return "position is not finite";
-  if (!within_coordinate_limit(glm::vec3(r.position.x, r.position.y, r.position.z))) {
-    return "position is beyond +-1e17 (Embree cannot cast rays from there)";
-  }
-  if (!finite(r.normal)) return "normal is not finite";
-  const float len2 = r.normal.x * r.normal.x + r.normal.y * r.normal.y + r.normal.z * r.normal.z;
-  if (!(len2 >= FLT_MIN && len2 <= FLT_MAX)) return "normal has zero length (or is too short or long to normalise)";
-  return nullptr;
+  return engine::receiver_problem(glm::vec3(r.position.x, r.position.y, r.position.z),
+                                  glm::vec3(r.normal.x, r.normal.y, r.normal.z));
 }
 
 [[nodiscard]] exao::Receiver to_internal(const Receiver& r) {

@@ -1,13 +1,12 @@
 // exao: exact ray-cast ambient occlusion. See README.md for every subcommand.
 
 #include <csignal>
+#include <string>
 #include <vector>
 
 #include <unistd.h>
 
-#include <CLI/CLI.hpp>
-
-#include "cli/commands.h"
+#include "cli/program.h"
 #include "core/atomic_write.h"
 
 namespace {
@@ -23,21 +22,6 @@ void on_interrupt(int signal) {
 int main(int argc, char** argv) {
   std::signal(SIGINT, on_interrupt);
   std::signal(SIGTERM, on_interrupt);
-
-  CLI::App app{"exao: exact ray-cast ambient occlusion (Laine & Karras 2010)"};
-  app.require_subcommand(1);
-  app.set_version_flag("--version", "exao 0.1.0");
-  const std::vector<exao::cli::Command> commands = {
-      exao::cli::add_render_command(app),
-      exao::cli::add_info_command(app),
-      exao::cli::add_bench_command(app),
-      exao::cli::add_query_command(app),
-      exao::cli::add_bake_command(app),
-      exao::cli::add_compare_command(app),
-  };
-  CLI11_PARSE(app, argc, argv);
-  for (const auto& command : commands) {
-    if (const int status = command(); status >= 0) return status;
-  }
-  return 1;
+  const std::vector<std::string> args(argv + 1, argv + argc);
+  return exao::cli::run_program(args);
 }

@@ -3,6 +3,8 @@
 #include <array>
 #include <cstdio>
 
+#include "cli/program.h"
+
 namespace exao::cli {
 namespace {
 
@@ -55,7 +57,12 @@ std::string with_flags(const std::string& message, const FlagOverrides& override
 }
 
 int report(const Error& error, const FlagOverrides& overrides) {
-  std::fprintf(stderr, "exao: %s\n", with_flags(error.message, overrides).c_str());
+  const std::string line = with_flags(error.message, overrides);
+  if (const Embedding* e = embedding(); e && e->error) {
+    e->error(line);  // the embedding shows it (the Python module raises it)
+    return 1;
+  }
+  std::fprintf(stderr, "exao: %s\n", line.c_str());
   return 1;
 }
 

@@ -4,6 +4,8 @@
 
 #include <unistd.h>
 
+#include "cli/program.h"
+
 namespace exao::cli {
 
 ProgressBar::ProgressBar(std::string label)
@@ -12,6 +14,8 @@ ProgressBar::ProgressBar(std::string label)
 ProgressBar::~ProgressBar() { finish(); }
 
 ProgressCallback ProgressBar::callback() {
+  // An embedding caller draws its own progress (and may cancel from it); no bar on stderr then.
+  if (const Embedding* e = embedding(); e && e->progress) return e->progress;
   if (!enabled_) return {};
   return [this](std::size_t done, std::size_t total) {
     std::unique_lock lock(mutex_, std::try_to_lock);

@@ -9,3 +9,9 @@ cmake -S "$here" -B "$here/build" -G Ninja -DCMAKE_BUILD_TYPE=Release
 cmake --build "$here/build" -j2 --target exao
 "$here/build/cli/exao" bake
 "$here/build/cli/exao" render -o ao.exr --png ao.png
+# The Python module (`import exao` in /usr/bin/python3 and Debian's Blender) and the Blender add-on zip.
+bash "$here/scripts/install-python.sh"
+cmake -S "$here" -B "$here/build"  # finds pybind11 and numpy now
+cmake --build "$here/build" -j2 --target _exao exao_blender_addon
+cmake --install "$here/build" --component python
+/usr/bin/python3 -c "import exao; print('import exao:', exao.Scene.open('room'))"

@@ -10,6 +10,7 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 quick=0
 [ "${1:-}" = "--quick" ] && quick=1
 bash "$here/scripts/install-deps.sh"
+bash "$here/scripts/install-python.sh"  # the Python module and Blender add-on tests
 cmake -S "$here" -B "$here/build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DEXAO_WERROR=ON
 cmake --build "$here/build" -j2
 bash "$here/scripts/install-test-tools.sh" "$here/build"

@@ -1,0 +1,17 @@
+#!/usr/bin/env bash
+# Installs what the Python module (python/) and the Blender add-on (blender/) need, from Debian
+# bookworm's packages: pybind11 2.10, numpy and pytest for the system Python 3.11 (/usr/bin/python3),
+# and Blender 3.4, which runs that same Python. Idempotent; run as root.
+set -euo pipefail
+
+packages=(python3 python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pytest blender)
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  export DEBIAN_FRONTEND=noninteractive
+  apt-get update -qq
+  apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
