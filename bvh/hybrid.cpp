@@ -182,20 +182,29 @@ void hybrid_mask_one(const Bvh& bvh, const lut::MaskEngine& engine, const Embree
     HybridController& controller = controllers.local();
     std::uint64_t undecided[Bits / 64];
     std::span<std::uint64_t> row_undecided(undecided, words.size());
+    // One receiver is a task of one: the thread's level, timed like a task (three clock reads,
+    // tens of nanoseconds against microseconds of work), so single-point callers learn too.
+    const int level = policy == HybridPolicy::Masks ? HybridController::kUnbounded : controller.level;
+    const Clock::time_point t0 = Clock::now();
+    std::uint32_t units = 0;
     if (policy == HybridPolicy::Rays) {
       std::fill(words.begin(), words.end(), 0);
       store(engine.template all_rays<Bits>(), row_undecided);
     } else {
-      // One receiver: the thread's level, without timing (a call is too short to time).
-      const int level = policy == HybridPolicy::Masks ? HybridController::kUnbounded : controller.level;
       const MaskBudget budget{controller.rays_per_unit, HybridController::allowance(level, n)};
       HybridOutcome<Bits> outcome;
       const MaskBudget* limit = level == HybridController::kUnbounded ? nullptr : &budget;
       const Mask<Bits> sure = traverse_certain<Bits, false>(bvh, engine, frame, nullptr, limit, outcome);
       store(sure, words);
       store(outcome.undecided, row_undecided);
+      units = outcome.units;
     }
-    (void)embree.occlude_selected(engine.rays(), std::span<const Frame>(&frame, 1), row_undecided, words.size(), words);
+    const Clock::time_point t1 = Clock::now();
+    const std::size_t cast =
+        embree.occlude_selected(engine.rays(), std::span<const Frame>(&frame, 1), row_undecided, words.size(), words);
+    if (policy == HybridPolicy::Adaptive) {
+      controller.record(level, 1, nanoseconds(t0, t1), units, nanoseconds(t1, Clock::now()), cast);
+    }
   });
 }
 

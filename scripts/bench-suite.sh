@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# The benchmark suite of issue 10: exao against Embree where exao's users work, one run, about
-# ten minutes on 2 cores. Every row is a ratio to Embree (packet16) measured in the same run,
+# The benchmark suite of issues 10 and 19: exao against Embree where exao's users work, one run,
+# about fifteen minutes on 2 cores. Every row is a ratio to Embree (packet16) measured in the same run,
 # on the same receivers and rays, with the agreement with Embree.
 #
 #   bash scripts/bench-suite.sh [BUILD_DIR] [OUT_DIR]     (defaults: build, BUILD_DIR/bench-suite)
@@ -31,12 +31,22 @@ run() {  # name label args...
     | tee "$out/$name.txt"
 }
 
+# auto (the default: masks under its cost model, Embree for the rest) beside bvh (the paper's
+# method alone) on every row.
 run pixels "Conference pixels 256x192" "$conference" "${camera[@]}" -W 256 -H 192 -n 64,128,1024 -r 1%,2%,5% \
-  --methods bvh,raster --masks exact --repeats 2
+  --methods auto,bvh,raster --masks exact --repeats 2
 run vertices "Conference vertex-bake receivers" "$conference" --receivers vertices -n 128,1024 -r 1%,5% \
-  --methods bvh --masks exact
+  --methods auto,bvh --masks exact
 run texels "CesiumMilkTruck texel-bake receivers 1024^2" "$truck" --receivers texels:1024 -n 128 -r 5% \
-  --methods bvh --masks exact
+  --methods auto,bvh --masks exact
+# The Khronos models' vertices: receivers in dense geometry (issue 19).
+khronos=()
+for model in 2CylinderEngine BrainStem CesiumMilkTruck Fox; do
+  file="$scenes/$model/glTF/$model.gltf"
+  [ -e "$file" ] || continue
+  run "vertices-$model" "$model vertex-bake receivers" "$file" --receivers vertices -n 128 -r 5% --methods auto,bvh --masks exact
+  khronos+=("vertices-$model")
+done
 
 # The public API's single-point ao(), one thread, against the caller's own rtcOccluded1 and
 # rtcOccluded16 loops on the same rays (tests/benchmarks/api_benchmark.cpp).
@@ -45,7 +55,7 @@ if [ -x "$api" ]; then
   for scene in room "$conference"; do
     tag=$(basename "$scene" .obj)
     echo "== API single points, $tag" >&2
-    EXAO_BENCH_SCENE="$scene" "$api" --benchmark_filter='BM_(ExaoAo/exact|EmbreeOccluded1|EmbreeOccluded16)/N:(64|256)/r_permille:(10|50)/real_time/threads:1$' \
+    EXAO_BENCH_SCENE="$scene" "$api" --benchmark_filter='BM_(ExaoAo/exact|ExaoAo/auto|EmbreeOccluded1|EmbreeOccluded16)/N:(64|256)/r_permille:(10|50)/real_time/threads:1$' \
       --benchmark_min_time=0.5 --benchmark_format=json --benchmark_out="$out/api-$tag.json" --benchmark_out_format=json \
       >/dev/null
   done
@@ -54,7 +64,7 @@ fi
 {
   echo "| workload | N | r | method | Mrays/s | x embree | rays agreeing | receivers identical |"
   echo "|---|---|---|---|---|---|---|---|"
-  for name in pixels vertices texels; do tail -n +3 "$out/$name.md"; done
+  for name in pixels vertices texels "${khronos[@]}"; do tail -n +3 "$out/$name.md"; done
   for json in "$out"/api-*.json; do
     [ -e "$json" ] || continue
     tag=$(basename "$json" .json)
@@ -62,12 +72,16 @@ fi
     node -e '
       const j = require(process.argv[1]); const rate = {};
       for (const b of j.benchmarks) {
-        const m = b.name.match(/^BM_(\w+)(?:\/exact)?\/N:(\d+)\/r_permille:(\d+)/); if (!m) continue;
-        rate[m[2] + "/" + m[3]] = rate[m[2] + "/" + m[3]] || {}; rate[m[2] + "/" + m[3]][m[1]] = b.items_per_second;
+        const m = b.name.match(/^BM_(\w+?)(?:\/(exact|auto))?\/N:(\d+)\/r_permille:(\d+)/); if (!m) continue;
+        const key = m[3] + "/" + m[4], name = m[1] + (m[2] ? "_" + m[2] : "");
+        rate[key] = rate[key] || {}; rate[key][name] = b.items_per_second;
       }
       for (const [k, r] of Object.entries(rate)) {
         const [n, pm] = k.split("/"); const best = Math.max(r.EmbreeOccluded1 || 0, r.EmbreeOccluded16 || 0);
-        console.log(`| ${process.argv[2]} single ao() | ${n} | ${pm / 10}% | exao exact vs caller rtcOccluded1 ${(r.EmbreeOccluded1/1e3).toFixed(0)}k, rtcOccluded16 ${(r.EmbreeOccluded16/1e3).toFixed(0)}k points/s | ${(r.ExaoAo*n/1e6).toFixed(1)} | **${(r.ExaoAo/best).toFixed(2)}** (vs best loop) | | |`);
+        for (const [label, v] of [["auto", r.ExaoAo_auto], ["bvh exact", r.ExaoAo_exact]]) {
+          if (!v) continue;
+          console.log(`| ${process.argv[2]} single ao() | ${n} | ${pm / 10}% | exao ${label} vs caller rtcOccluded1 ${(r.EmbreeOccluded1/1e3).toFixed(0)}k, rtcOccluded16 ${(r.EmbreeOccluded16/1e3).toFixed(0)}k points/s | ${(v*n/1e6).toFixed(1)} | **${(v/best).toFixed(2)}** (vs best loop) | | |`);
+        }
       }' "$json" "${tag#api-}"
   done
 } > "$out/suite.md"

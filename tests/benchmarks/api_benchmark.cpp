@@ -64,7 +64,7 @@ struct EmbreeScene {
 
 // Everything one N needs, built once and shared by every thread.
 struct Workload {
-  std::unique_ptr<api::Engine> lut, exact;
+  std::unique_ptr<api::Engine> lut, exact, automatic;  // bvh with each mask mode; auto (the default)
   std::unique_ptr<EmbreeScene> embree;
   std::vector<api::Receiver> points;
   // The caller's own rays: per point, the origin and N world directions and lengths (the
@@ -103,6 +103,9 @@ const Workload& workload(int samples, float radius_permille) {
   options.samples = samples;
   options.radius = radius_permille * 1e-3f * diagonal_of(*scene);
   options.sidedness = api::Sidedness::Two;
+  w->automatic = std::make_unique<api::Engine>(std::move(*api::Engine::build(scene->mesh(), options)));
+  options.backend = api::Backend::Bvh;  // the paper's method alone, with each mask mode
+  options.mask_mode = api::MaskMode::Lut;
   w->lut = std::make_unique<api::Engine>(std::move(*api::Engine::build(scene->mesh(), options)));
   options.mask_mode = api::MaskMode::Exact;
   w->exact = std::make_unique<api::Engine>(std::move(*api::Engine::build(scene->mesh(), options)));
@@ -157,10 +160,12 @@ void report(benchmark::State& state, int samples) {
 }
 
 // exao: one call per shading point.
-void BM_ExaoAo(benchmark::State& state, bool exact) {
+enum class Variant { Lut, Exact, Auto };
+
+void BM_ExaoAo(benchmark::State& state, Variant variant) {
   const int samples = static_cast<int>(state.range(0));
   const Workload& w = workload(samples, radius_of(state));
-  const api::Engine& engine = exact ? *w.exact : *w.lut;
+  const api::Engine& engine = variant == Variant::Auto ? *w.automatic : variant == Variant::Exact ? *w.exact : *w.lut;
   std::size_t k = 0;
   float sum = 0.0f;
   for (auto _ : state) {
@@ -247,8 +252,9 @@ void configure(benchmark::internal::Benchmark* b) {
   b->ArgNames({"N", "r_permille"})->ArgsProduct({{64, 256}, {10, 50}})->Threads(1)->Threads(2)->Threads(4)->UseRealTime();
 }
 
-BENCHMARK_CAPTURE(BM_ExaoAo, lut, false)->Apply(configure);
-BENCHMARK_CAPTURE(BM_ExaoAo, exact, true)->Apply(configure);
+BENCHMARK_CAPTURE(BM_ExaoAo, lut, Variant::Lut)->Apply(configure);
+BENCHMARK_CAPTURE(BM_ExaoAo, exact, Variant::Exact)->Apply(configure);
+BENCHMARK_CAPTURE(BM_ExaoAo, auto, Variant::Auto)->Apply(configure);
 BENCHMARK(BM_EmbreeOccluded1)->Apply(configure);
 BENCHMARK(BM_EmbreeOccluded16)->Apply(configure);
 BENCHMARK(BM_ExaoBatch)->ArgNames({"N", "r_permille"})->ArgsProduct({{64, 256}, {10, 50}})->UseRealTime();
