@@ -50,6 +50,7 @@ struct BakeCommandOptions {
   int png_bits = 8;
   std::optional<std::string> preview;  // default: <output stem>-preview.png; "" for none
   std::string compare;                 // a second method, timed on the same receivers
+  ShardCliOptions shard;
 };
 
 namespace fs = std::filesystem;
@@ -272,14 +273,32 @@ Result<void> run_compare(const Scene& scene, const bake::BakeResult& result, con
   return {};
 }
 
-int run_bake(const BakeCommandOptions& options) {
+int run_bake(const BakeCommandOptions& given, const Invocation& invocation) {
+  BakeCommandOptions options = given;
+  if (invocation.merge && !invocation.merge->output.empty()) options.output = invocation.merge->output;
   FlagOverrides flags;
   Result<BakePlan> plan = plan_bake(options, flags);
   if (!plan) return report(plan.error(), flags);
+  Result<std::optional<engine::Shard>> shard = resolve_shard(options.shard);
+  if (!shard) return report(shard.error());
+  if ((*shard || !options.shard.resume.empty()) && plan->compare) {
+    return report(Error{"--compare: not with --shard or --resume (it times one whole run)"});
+  }
   Result<bake::Document> document = open_document(options, *plan);
   if (!document) return report(document.error());
   Result<OutputPaths> outputs = plan_outputs(options, *document);
   if (!outputs) return report(outputs.error());
+  // Sharded, resumed and merged bakes need the receivers before the bake proper: the same ones
+  // bake() computes AO at, in its order (bake::bake_receivers leaves the document as it was).
+  std::vector<Receiver> receivers;
+  if (*shard || !options.shard.resume.empty() || invocation.merge) {
+    Result<std::vector<Receiver>> found = bake::bake_receivers(*document, plan->bake);
+    if (!found) return report(found.error());
+    receivers = std::move(*found);
+  }
+  if (invocation.merge) {
+    if (auto ok = check_merge_receivers(*invocation.merge, receivers); !ok) return report(ok.error());
+  }
 
   // One geometry for the bake's engine, the --compare engine and the preview's primary rays.
   std::vector<engine::Method> methods{plan->engine.method};
@@ -301,10 +320,26 @@ int run_bake(const BakeCommandOptions& options) {
     other = std::move(*built);
   }
 
+  // The shard's part, beside the output and never under its name; nothing else is written.
+  const auto record = [&] {
+    return make_record("bake", invocation, {options.scene.scene}, outputs->save.path, receivers, engine->samples());
+  };
+  if (*shard) return run_shard(record(), *engine, receivers, **shard);
+  std::vector<std::uint32_t> resumed;
+  if (!options.shard.resume.empty()) {
+    Result<std::vector<std::uint32_t>> counts = run_resumable(options.shard.resume, record(), *engine, receivers);
+    if (!counts) return report(counts.error());
+    resumed = std::move(*counts);
+  }
+
   Result<bake::BakeResult> result;
   {
     ProgressBar bar("bake");
-    result = bake::bake(*document, plan->bake, *engine, bar.callback());
+    engine::RunOptions run;
+    run.progress = bar.callback();
+    if (invocation.merge) run.supplied_blocked = invocation.merge->blocked;
+    if (!options.shard.resume.empty()) run.supplied_blocked = resumed;
+    result = bake::bake(*document, plan->bake, *engine, run);
   }
   if (!result) return report(result.error());
   const std::string& name = options.scene.scene;
@@ -363,9 +398,10 @@ Command add_bake_command(CLI::App& app) {
                       "PNG picture of the baked AO from the camera options (default <output stem>-preview.png; '' for none)");
   command->add_option("--compare", options->compare,
                       "Also time this method (embree, brute or bvh: raster serves only a camera's pixels) on the same receivers and report how the answers agree, ray by ray");
-  return [options, command]() {
+  add_shard_options(*command, options->shard, true);
+  return [options, command](const Invocation& invocation) {
     options->ground = command->count("--ground") > 0;
-    return command->parsed() ? run_bake(*options) : -1;
+    return command->parsed() ? run_bake(*options, invocation) : -1;
   };
 }
 

@@ -27,17 +27,21 @@ int main(int argc, char** argv) {
   CLI::App app{"exao: exact ray-cast ambient occlusion (Laine & Karras 2010)"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "exao 0.1.0");
-  const std::vector<exao::cli::Command> commands = {
-      exao::cli::add_render_command(app),
-      exao::cli::add_info_command(app),
-      exao::cli::add_bench_command(app),
-      exao::cli::add_query_command(app),
-      exao::cli::add_bake_command(app),
-      exao::cli::add_compare_command(app),
-  };
+  const std::vector<exao::cli::Command> commands = exao::cli::register_commands(app);
   CLI11_PARSE(app, argc, argv);
+  exao::cli::Invocation invocation;
+  invocation.args.assign(argv + 1, argv + argc);  // recorded in the parts of sharded jobs
   for (const auto& command : commands) {
-    if (const int status = command(); status >= 0) return status;
+    if (const int status = command(invocation); status >= 0) return status;
   }
   return 1;
 }
+
+namespace exao::cli {
+
+std::vector<Command> register_commands(CLI::App& app) {
+  return {add_render_command(app), add_info_command(app),  add_bench_command(app), add_query_command(app),
+          add_bake_command(app),   add_compare_command(app), add_merge_command(app)};
+}
+
+}  // namespace exao::cli
