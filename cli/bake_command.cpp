@@ -207,8 +207,10 @@ void print_throughput(engine::Method method, double seconds, std::size_t receive
               seconds > 0.0 ? rays / seconds * 1e-6 : 0.0, seconds > 0.0 ? static_cast<double>(receivers) / seconds : 0.0);
 }
 
+// `merged`: what the counts came from (exao merge, --resume), in place of a throughput that
+// would time no rays.
 void print_summary(const std::string& name, const bake::Document& document, const bake::BakeOptions& bake_options,
-                   const bake::BakeResult& result, const engine::Engine& engine) {
+                   const bake::BakeResult& result, const engine::Engine& engine, const std::string& merged) {
   std::string what;
   if (result.target == bake::Target::Vertex) {
     what = std::to_string(result.receivers.size()) + " vertex receivers";
@@ -222,7 +224,11 @@ void print_summary(const std::string& name, const bake::Document& document, cons
   }
   std::printf("%s: %zu triangles, %s, N=%d, r=%g\n", name.c_str(), document.scene().triangle_count(), what.c_str(),
               engine.samples(), static_cast<double>(engine.radius()));
-  print_throughput(engine.method(), result.ao_seconds, result.receivers.size(), engine.samples());
+  if (merged.empty()) {
+    print_throughput(engine.method(), result.ao_seconds, result.receivers.size(), engine.samples());
+  } else {
+    std::printf("  AO from %s\n", merged.c_str());
+  }
 }
 
 // The figures of DESIGN.md section 8, test 3, for the bake's own receivers.
@@ -354,7 +360,9 @@ int run_bake(const BakeCommandOptions& given, const Invocation& invocation) {
     if (auto ok = write_preview(*outputs, *document, *result, *engine); !ok) return report(ok.error());
     written->push_back(outputs->preview);
   }
-  print_summary(name, *document, plan->bake, *result, *engine);
+  print_summary(name, *document, plan->bake, *result, *engine,
+                invocation.merge ? invocation.merge->parts
+                                 : options.shard.resume.empty() ? std::string() : "the chunks in " + options.shard.resume);
   if (other) {
     if (auto ok = run_compare(document->scene(), *result, *engine, *other); !ok) return report(ok.error(), kCompareFlags);
   }

@@ -67,6 +67,7 @@ int run_query(const QueryOptions& options, const Invocation& invocation) {
               receivers->size(), engine->samples(), static_cast<double>(engine->radius()),
               engine::method_name(engine->method()), seconds,
               static_cast<double>(receivers->size()) * engine->samples() / seconds * 1e-6, output.c_str());
+  if (invocation.merge) std::printf("  AO from %s (the time above casts no rays)\n", invocation.merge->parts.c_str());
   if (options.stats) print_stats(stats);
   return 0;
 }

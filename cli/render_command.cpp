@@ -134,6 +134,7 @@ int run_render(const RenderOptions& options, const Invocation& invocation) {
               pixels.receivers.size(), engine->samples(), static_cast<double>(engine->radius()),
               *levels ? "raster+lod" : engine::method_name(engine->method()), seconds, mrays, output.c_str(),
               options.png.empty() ? "" : ", ", options.png.c_str());
+  if (invocation.merge) std::printf("  AO from %s (the time above casts no rays)\n", invocation.merge->parts.c_str());
   if (options.stats) print_stats(stats);
   return 0;
 }
