@@ -206,7 +206,7 @@ Result<Part> read_part(const std::string& path) {
 
 // Why two parts cannot be of one job, or empty.
 std::string mismatch(const Part& a, const Part& b) {
-  if (a.record.command != b.record.command) return "is a part of exao " + a.record.command + ", not " + b.record.command;
+  if (a.record.command != b.record.command) return "is a part of exao " + a.record.command + ", not exao " + b.record.command;
   std::vector<std::string> ia, ib;
   for (const InputHash& h : a.hashes) ia.push_back(h.path + "@" + h.hash);
   for (const InputHash& h : b.hashes) ib.push_back(h.path + "@" + h.hash);
@@ -216,7 +216,9 @@ std::string mismatch(const Part& a, const Part& b) {
     for (const std::string& w : a.record.args) args += (args.empty() ? "" : " ") + w;
     return "was made with other options ('" + args + "')";
   }
-  if (a.shard.count != b.shard.count) return "is a part of " + std::to_string(a.shard.count) + ", not " + std::to_string(b.shard.count);
+  if (a.shard.count != b.shard.count) {
+    return "is one of " + std::to_string(a.shard.count) + " parts, not of " + std::to_string(b.shard.count);
+  }
   if (a.record.receivers != b.record.receivers || a.record.receivers_digest != b.record.receivers_digest) {
     return "was made for other receivers";
   }
@@ -231,7 +233,7 @@ Result<std::vector<std::uint32_t>> combine(const std::vector<Part>& parts) {
   std::map<std::size_t, const Part*> by_index;
   for (const Part& part : parts) {
     if (const std::string why = mismatch(part, first); !why.empty()) {
-      return fail(part.path + ": " + why + " than " + first.path);
+      return fail(part.path + ": does not belong with " + first.path + ": it " + why);
     }
     auto [it, added] = by_index.try_emplace(part.shard.index, &part);
     if (!added) {
@@ -436,7 +438,7 @@ Result<std::vector<std::uint32_t>> run_resumable(const std::string& dir, const J
     // The output name is not the job: a resumed bake may write elsewhere.
     part->record.output = record.output;
     if (const std::string why = mismatch(*part, mine); !why.empty()) {
-      return fail(part->path + ": " + why + " than this bake: --resume needs a folder of its own parts");
+      return fail(part->path + ": not a part of this bake (it " + why + "): --resume needs a folder of its own parts");
     }
     found.push_back(std::move(*part));
   }
