@@ -181,6 +181,8 @@ Result<Part> read_part(const std::string& path) {
   std::uint64_t count = 0;
   if (bytes.size() < at + sizeof count) return fail(path + ": truncated (no receiver count)");
   std::memcpy(&count, bytes.data() + at, sizeof count);
+  // Bounded by the file's size before any arithmetic on it: a hand-made count cannot overflow.
+  if (count > bytes.size() / 8) return fail(path + ": truncated (it holds fewer receivers than its count, " + std::to_string(count) + ")");
   if (count > part.record.receivers) {
     return fail(path + ": holds " + std::to_string(count) + " receivers of a job of " + std::to_string(part.record.receivers));
   }
@@ -251,6 +253,13 @@ Result<std::vector<std::uint32_t>> combine(const std::vector<Part>& parts) {
     Result<std::string> now = hash_file(h.path);
     if (!now) return std::unexpected(now.error());
     if (*now != h.hash) return fail(h.path + ": changed since the parts were made (" + first.path + ")");
+  }
+  // Counted before the job's array is made: a header cannot ask for more memory than its parts hold.
+  std::uint64_t held = 0;
+  for (const Part& part : parts) held += part.index.size();
+  if (held != first.record.receivers) {
+    return fail(first.path + ": the parts hold " + std::to_string(held) + " receivers of the job's " +
+                std::to_string(first.record.receivers));
   }
   constexpr std::uint32_t kUnset = ~std::uint32_t{0};
   std::vector<std::uint32_t> blocked(first.record.receivers, kUnset);
