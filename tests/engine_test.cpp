@@ -217,6 +217,57 @@ TEST(Engine, ShardsPartitionTheBatchInWholeChunksWithTheWholeBatchsAnswers) {
   EXPECT_FALSE(points.run(receivers, {ao, {}, {}}, bad));
 }
 
+// A texture bake's shards split the texels of one chart (a seam inside the map), and the map is
+// made once from every shard's answers: here each shard's receivers answer 8 * K blocked rays, so
+// a texel's value says which shards its samples came from.
+TEST(Engine, TextureShardsMeetInsideChartsAndTheMapIsMadeFromAllOfThem) {
+  bake::ConvertOptions convert;
+  convert.atlas_size = 512;
+  convert.atlas_padding = 10;
+  Result<bake::Document> document = bake::Document::open("room", convert);
+  ASSERT_TRUE(document) << document.error().message;
+  bake::BakeOptions options;
+  options.target = bake::Target::Texture;
+  options.texture_size = 512;
+  Result<std::vector<Receiver>> receivers = bake::bake_receivers(*document, options);
+  ASSERT_TRUE(receivers) << receivers.error().message;
+  ASSERT_GT(receivers->size(), 4 * engine::kChunk);
+  std::vector<std::uint32_t> blocked(receivers->size(), ~std::uint32_t{0});
+  for (std::size_t k = 0; k < 4; ++k) {
+    for (const std::uint32_t r : engine::shard_receivers(*receivers, {k, 4})) blocked[r] = static_cast<std::uint32_t>(8 * k);
+  }
+  for (const std::uint32_t b : blocked) ASSERT_NE(b, ~std::uint32_t{0});  // the shards cover every receiver
+  engine::Options engine_options = options_for();
+  engine_options.samples = 32;
+  const engine::Engine engine = build(document->scene(), engine_options, engine::Receivers::Points);
+  engine::RunOptions run;
+  run.supplied_blocked = blocked;
+  Result<bake::BakeResult> result = bake::bake(*document, options, engine, run);
+  ASSERT_TRUE(result) << result.error().message;
+  ASSERT_EQ(result->maps.size(), 1u);
+  const bake::AoMap& map = result->maps.front();
+  const auto pure = [](float ao) {
+    for (int k = 0; k < 4; ++k) {
+      if (ao == ao_from_blocked(8 * k, 32)) return true;
+    }
+    return false;
+  };
+  std::size_t seams = 0, mixed = 0, margin_from_two = 0;
+  for (int y = 0; y + 1 < map.size; ++y) {
+    for (int x = 0; x + 1 < map.size; ++x) {
+      const std::size_t at = static_cast<std::size_t>(y) * map.size + x;
+      if (map.filled[at] == 1 && !pure(map.ao[at])) ++mixed;  // samples of two shards in one texel
+      for (const std::size_t next : {at + 1, at + map.size}) {
+        if (map.filled[at] == 1 && map.filled[next] == 1 && map.ao[at] != map.ao[next]) ++seams;
+        if (map.filled[at] == 2 && map.filled[next] == 2 && map.ao[at] != map.ao[next]) ++margin_from_two;
+      }
+    }
+  }
+  EXPECT_GT(seams, 0u) << "no two neighbouring covered texels come from different shards";
+  EXPECT_GT(mixed, 0u) << "no texel holds samples of two shards";
+  EXPECT_GT(margin_from_two, 0u) << "the dilated margin does not follow the shards' values";
+}
+
 TEST(Engine, MortonOrderIsAPermutationEvenWithNaN) {
   const float nan = std::numeric_limits<float>::quiet_NaN();
   const float inf = std::numeric_limits<float>::infinity();
