@@ -203,6 +203,19 @@ TEST_F(BadParts, ADuplicateIsNamed) {
 
 TEST_F(BadParts, APartOfOtherOptionsIsNamed) { expect_refused(p0 + " other-options.exao " + p2, "other-options.exao"); }
 
+TEST_F(BadParts, APartOfAnotherInputIsNamed) {
+  // The same words over a points file with other contents: part 1 of another input.
+  test::TempDir other;
+  std::string points = read_bytes(dir / "points.txt");
+  points[0] = points[0] == '-' ? '0' : '-';
+  test::write_file(other / "points.txt", points);
+  fs::remove(dir / p1);
+  fs::copy_file(other / "points.txt", dir / "points.txt", fs::copy_options::overwrite_existing);
+  ASSERT_EQ(sh(in_dir(dir.path(), "query room --points points.txt -n 32 -o ao.txt --shard 1/3")).status, 0);
+  fs::rename(dir / p1, dir / "other-input.exao");
+  expect_refused(p0 + " other-input.exao " + p2, "other-input.exao");
+}
+
 TEST_F(BadParts, ATruncatedPartIsNamed) {
   fs::resize_file(dir / p1, fs::file_size(dir / p1) - 100);
   expect_refused(p0 + " " + p1 + " " + p2, p1);
