@@ -4,8 +4,9 @@
 # Then, unless --quick is given: the whole suite again under ASan + UBSan (build-sanitize/,
 # scripts/test-sanitize.sh) and every fuzz campaign for FUZZ_SECONDS (default 60 here) each,
 # failing on any crash (build-fuzz/, scripts/fuzz.sh). As root it installs SLURM
-# (scripts/install-slurm.sh) so that the scheduler test (tests/slurm_shards.sh) runs. CI runs all three: about an hour on 2
-# cores from a cold cache (plain build + tests ~15 min, sanitizer build + tests ~30, fuzzing ~15).
+# (scripts/install-slurm.sh) so that the scheduler test (tests/slurm_shards.sh) runs.
+# CI runs all three: about an hour on 2 cores from a cold cache (plain build + tests ~15 min,
+# sanitizer build + tests ~30, fuzzing ~15).
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 quick=0
