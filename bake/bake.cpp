@@ -38,10 +38,8 @@ Result<void> check_options(const BakeOptions& o) {
 namespace {
 
 // The receivers' AO from the engine (which batches, orders and threads them), timed.
-Result<void> compute(BakeResult& result, const engine::Engine& engine, const ProgressCallback& progress) {
+Result<void> compute(BakeResult& result, const engine::Engine& engine, const engine::RunOptions& run) {
   const auto start = std::chrono::steady_clock::now();
-  engine::RunOptions run;
-  run.progress = progress;
   Result<std::vector<float>> values = engine.ao(result.receivers, run);
   if (!values) return std::unexpected(values.error());
   result.ao = std::move(*values);
@@ -93,7 +91,7 @@ Result<std::vector<glm::vec3>> file_normals(const tinygltf::Model& model, const 
 
 // `engine` null: only the receivers (bake_receivers).
 Result<BakeResult> bake_vertices(Document& document, const BakeOptions& options, const engine::Engine* engine,
-                                 const ProgressCallback& progress) {
+                                 const engine::RunOptions& run) {
   Document::Impl& doc = document.impl();
   const ModelWalk& walk = doc.walk;
   BakeResult result;
@@ -127,7 +125,7 @@ Result<BakeResult> bake_vertices(Document& document, const BakeOptions& options,
                            " primitive(s) have no NORMAL: their receivers use geometric normals");
   }
   if (engine == nullptr) return result;
-  if (auto ok = compute(result, *engine, progress); !ok) return std::unexpected(ok.error());
+  if (auto ok = compute(result, *engine, run); !ok) return std::unexpected(ok.error());
   result.part_vertex_ao.resize(walk.parts.size());
   for (std::size_t p = 0; p < walk.parts.size(); ++p) result.part_vertex_ao[p].assign(walk.parts[p].world.size(), 1.0f);
   for (std::size_t r = 0; r < where.size(); ++r) result.part_vertex_ao[where[r].first][where[r].second] = result.ao[r];
@@ -197,7 +195,7 @@ std::string overlap_reason(const tinygltf::Model& model, const ModelWalk& walk, 
 
 // `engine` null: only the receivers (bake_receivers), the document left as it was.
 Result<BakeResult> bake_texture(Document& document, const BakeOptions& options, const engine::Engine* engine,
-                                const ProgressCallback& progress) {
+                                const engine::RunOptions& run) {
   Document::Impl& doc = document.impl();
   tinygltf::Model& model = doc.model;
   const ModelWalk& walk = doc.walk;
@@ -458,7 +456,7 @@ Result<BakeResult> bake_texture(Document& document, const BakeOptions& options, 
   }
 
   if (engine == nullptr) return result;
-  if (auto ok = compute(result, *engine, progress); !ok) return std::unexpected(ok.error());
+  if (auto ok = compute(result, *engine, run); !ok) return std::unexpected(ok.error());
 
   // Each texel is the mean of its receivers; then the margin.
   const std::size_t texel_count = static_cast<std::size_t>(size) * static_cast<std::size_t>(size);
@@ -582,10 +580,10 @@ Result<BakeResult> bake_texture(Document& document, const BakeOptions& options, 
 }
 
 Result<BakeResult> run_bake(Document& document, const BakeOptions& options, const engine::Engine* engine,
-                       const ProgressCallback& progress) {
+                            const engine::RunOptions& run) {
   if (auto ok = check_options(options); !ok) return std::unexpected(ok.error());
-  Result<BakeResult> result = options.target == Target::Vertex ? bake_vertices(document, options, engine, progress)
-                                                               : bake_texture(document, options, engine, progress);
+  Result<BakeResult> result = options.target == Target::Vertex ? bake_vertices(document, options, engine, run)
+                                                               : bake_texture(document, options, engine, run);
   // What fails past the options is about the input: the message names it.
   if (!result) return fail((document.from_gltf() ? document.impl().source_path : document.name()) + ": " + result.error().message);
   return result;
@@ -595,7 +593,14 @@ Result<BakeResult> run_bake(Document& document, const BakeOptions& options, cons
 
 Result<BakeResult> bake(Document& document, const BakeOptions& options, const engine::Engine& engine,
                         const ProgressCallback& progress) {
-  return run_bake(document, options, &engine, progress);
+  engine::RunOptions run;
+  run.progress = progress;
+  return run_bake(document, options, &engine, run);
+}
+
+Result<BakeResult> bake(Document& document, const BakeOptions& options, const engine::Engine& engine,
+                        const engine::RunOptions& run) {
+  return run_bake(document, options, &engine, run);
 }
 
 Result<std::vector<Receiver>> bake_receivers(Document& document, const BakeOptions& options) {

@@ -88,6 +88,11 @@ struct BakeResult {
 /// (the message suggests a vertex bake) or UVs outside [0, 1].
 [[nodiscard]] Result<BakeResult> bake(Document& document, const BakeOptions& options, const engine::Engine& engine,
                                       const ProgressCallback& progress = {});
+/// bake() with the engine's per-call settings: exao merge supplies every receiver's count from
+/// the parts of a sharded bake (engine::RunOptions::supplied_blocked), so that the atlas, the
+/// dilation and the files are made once, from the complete answers, exactly as one run makes them.
+[[nodiscard]] Result<BakeResult> bake(Document& document, const BakeOptions& options, const engine::Engine& engine,
+                                      const engine::RunOptions& run);
 
 /// The receivers bake() would ask the engine about, in its order, without computing AO or
 /// changing the document (exao bench --receivers times methods on them). Fails as bake() does.

@@ -50,6 +50,7 @@ struct BakeCommandOptions {
   int png_bits = 8;
   std::optional<std::string> preview;  // default: <output stem>-preview.png; "" for none
   std::string compare;                 // a second method, timed on the same receivers
+  ShardCliOptions shard;
 };
 
 namespace fs = std::filesystem;
@@ -206,8 +207,10 @@ void print_throughput(engine::Method method, double seconds, std::size_t receive
               seconds > 0.0 ? rays / seconds * 1e-6 : 0.0, seconds > 0.0 ? static_cast<double>(receivers) / seconds : 0.0);
 }
 
+// `merged`: what the counts came from (exao merge, --resume), in place of a throughput that
+// would time no rays.
 void print_summary(const std::string& name, const bake::Document& document, const bake::BakeOptions& bake_options,
-                   const bake::BakeResult& result, const engine::Engine& engine) {
+                   const bake::BakeResult& result, const engine::Engine& engine, const std::string& merged) {
   std::string what;
   if (result.target == bake::Target::Vertex) {
     what = std::to_string(result.receivers.size()) + " vertex receivers";
@@ -221,7 +224,11 @@ void print_summary(const std::string& name, const bake::Document& document, cons
   }
   std::printf("%s: %zu triangles, %s, N=%d, r=%g\n", name.c_str(), document.scene().triangle_count(), what.c_str(),
               engine.samples(), static_cast<double>(engine.radius()));
-  print_throughput(engine.method(), result.ao_seconds, result.receivers.size(), engine.samples());
+  if (merged.empty()) {
+    print_throughput(engine.method(), result.ao_seconds, result.receivers.size(), engine.samples());
+  } else {
+    std::printf("  AO from %s\n", merged.c_str());
+  }
 }
 
 // The figures of DESIGN.md section 8, test 3, for the bake's own receivers.
@@ -272,14 +279,32 @@ Result<void> run_compare(const Scene& scene, const bake::BakeResult& result, con
   return {};
 }
 
-int run_bake(const BakeCommandOptions& options) {
+int run_bake(const BakeCommandOptions& given, const Invocation& invocation) {
+  BakeCommandOptions options = given;
+  if (invocation.merge && !invocation.merge->output.empty()) options.output = invocation.merge->output;
   FlagOverrides flags;
   Result<BakePlan> plan = plan_bake(options, flags);
   if (!plan) return report(plan.error(), flags);
+  Result<std::optional<engine::Shard>> shard = resolve_shard(options.shard);
+  if (!shard) return report(shard.error());
+  if ((*shard || !options.shard.resume.empty()) && plan->compare) {
+    return report(Error{"--compare: not with --shard or --resume (it times one whole run)"});
+  }
   Result<bake::Document> document = open_document(options, *plan);
   if (!document) return report(document.error());
   Result<OutputPaths> outputs = plan_outputs(options, *document);
   if (!outputs) return report(outputs.error());
+  // Sharded, resumed and merged bakes need the receivers before the bake proper: the same ones
+  // bake() computes AO at, in its order (bake::bake_receivers leaves the document as it was).
+  std::vector<Receiver> receivers;
+  if (*shard || !options.shard.resume.empty() || invocation.merge) {
+    Result<std::vector<Receiver>> found = bake::bake_receivers(*document, plan->bake);
+    if (!found) return report(found.error());
+    receivers = std::move(*found);
+  }
+  if (invocation.merge) {
+    if (auto ok = check_merge_receivers(*invocation.merge, receivers); !ok) return report(ok.error());
+  }
 
   // One geometry for the bake's engine, the --compare engine and the preview's primary rays.
   std::vector<engine::Method> methods{plan->engine.method};
@@ -301,10 +326,26 @@ int run_bake(const BakeCommandOptions& options) {
     other = std::move(*built);
   }
 
+  // The shard's part, beside the output and never under its name; nothing else is written.
+  const auto record = [&] {
+    return make_record("bake", invocation, {options.scene.scene}, outputs->save.path, receivers, engine->samples());
+  };
+  if (*shard) return run_shard(record(), *engine, receivers, **shard);
+  std::vector<std::uint32_t> resumed;
+  if (!options.shard.resume.empty()) {
+    Result<std::vector<std::uint32_t>> counts = run_resumable(options.shard.resume, record(), *engine, receivers);
+    if (!counts) return report(counts.error());
+    resumed = std::move(*counts);
+  }
+
   Result<bake::BakeResult> result;
   {
     ProgressBar bar("bake");
-    result = bake::bake(*document, plan->bake, *engine, bar.callback());
+    engine::RunOptions run;
+    run.progress = bar.callback();
+    if (invocation.merge) run.supplied_blocked = invocation.merge->blocked;
+    if (!options.shard.resume.empty()) run.supplied_blocked = resumed;
+    result = bake::bake(*document, plan->bake, *engine, run);
   }
   if (!result) return report(result.error());
   const std::string& name = options.scene.scene;
@@ -319,7 +360,9 @@ int run_bake(const BakeCommandOptions& options) {
     if (auto ok = write_preview(*outputs, *document, *result, *engine); !ok) return report(ok.error());
     written->push_back(outputs->preview);
   }
-  print_summary(name, *document, plan->bake, *result, *engine);
+  print_summary(name, *document, plan->bake, *result, *engine,
+                invocation.merge ? invocation.merge->parts
+                                 : options.shard.resume.empty() ? std::string() : "the chunks in " + options.shard.resume);
   if (other) {
     if (auto ok = run_compare(document->scene(), *result, *engine, *other); !ok) return report(ok.error(), kCompareFlags);
   }
@@ -363,9 +406,10 @@ Command add_bake_command(CLI::App& app) {
                       "PNG picture of the baked AO from the camera options (default <output stem>-preview.png; '' for none)");
   command->add_option("--compare", options->compare,
                       "Also time this method (embree, brute or bvh: raster serves only a camera's pixels) on the same receivers and report how the answers agree, ray by ray");
-  return [options, command]() {
+  add_shard_options(*command, options->shard, true);
+  return [options, command](const Invocation& invocation) {
     options->ground = command->count("--ground") > 0;
-    return command->parsed() ? run_bake(*options) : -1;
+    return command->parsed() ? run_bake(*options, invocation) : -1;
   };
 }
 

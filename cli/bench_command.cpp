@@ -47,6 +47,7 @@ struct BenchOptions {
   std::string label;
   std::string png_dir;  // a PNG preview of every row's AO, for pictures and by-eye checks
   bool stats = false;
+  ShardCliOptions shard;
 };
 
 // How a method's masks compare with Embree's on the same rays.
@@ -170,8 +171,13 @@ Result<BenchLists> parse_lists(const BenchOptions& options, const engine::Option
   return out;
 }
 
-int run_bench(const BenchOptions& options) {
+int run_bench(const BenchOptions& options, const Invocation&) {
   if (options.repeats < 1) return report(Error{"--repeats: must be at least 1, got " + std::to_string(options.repeats)});
+  Result<std::optional<engine::Shard>> shard = resolve_shard(options.shard);
+  if (!shard) return report(shard.error());
+  if (*shard && options.receivers == "pixels") {
+    return report(Error{"--shard: only with --receivers vertices or texels:SIZE (a bake's receivers, cut into chunks)"});
+  }
   Result<engine::Options> base = make_options(options.scene, options.rays, options.method);
   if (!base) return report(base.error());
   print_thread_note(base->threads);
@@ -242,6 +248,18 @@ int run_bench(const BenchOptions& options) {
     Result<std::vector<Receiver>> receivers = bake::bake_receivers(*document, *bake_options);
     if (!receivers) return report(receivers.error());
     if (receivers->empty()) return report(Error{options.scene.scene + ": the bake has no receivers"});
+    if (*shard) {
+      // The shard's receivers only (the chunks a sharded bake computes), in the engine's order:
+      // each receiver's rays are the same, so every method is timed on exactly this part.
+      const std::size_t total = receivers->size();
+      std::vector<Receiver> part;
+      for (const std::uint32_t r : engine::shard_receivers(*receivers, **shard)) part.push_back((*receivers)[r]);
+      std::printf("shard %zu/%zu: %zu of %zu receivers\n", (*shard)->index, (*shard)->count, part.size(), total);
+      if (part.empty()) return report(Error{"--shard: part " + std::to_string((*shard)->index) + " of " +
+                                            std::to_string((*shard)->count) + " has no receivers (" +
+                                            std::to_string(total) + " receivers make fewer chunks than parts)"});
+      *receivers = std::move(part);
+    }
     pixels->receivers = std::move(*receivers);
     pixels->width = static_cast<int>(pixels->receivers.size());
     pixels->height = 1;
@@ -250,6 +268,7 @@ int run_bench(const BenchOptions& options) {
   BenchReport report_data;
   report_data.scene = options.scene.scene;
   report_data.label = options.label.empty() ? options.scene.scene + " " + options.receivers : options.label;
+  if (*shard) report_data.label += " shard " + std::to_string((*shard)->index) + "/" + std::to_string((*shard)->count);
   report_data.triangles = scene->triangle_count();
   report_data.receivers = pixels->receivers.size();
   report_data.threads = reference->threads();
@@ -449,7 +468,8 @@ Command add_bench_command(CLI::App& app) {
   command->add_option("--label", options->label, "The workload's name in the tables (default: scene and receivers)");
   command->add_option("--png-dir", options->png_dir, "Write every row's AO as a PNG preview into this folder");
   command->add_flag("--stats", options->stats, "Add BVH work counters per receiver");
-  return [options, command]() { return command->parsed() ? run_bench(*options) : -1; };
+  add_shard_options(*command, options->shard, false);
+  return [options, command](const Invocation& invocation) { return command->parsed() ? run_bench(*options, invocation) : -1; };
 }
 
 }  // namespace exao::cli

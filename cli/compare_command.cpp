@@ -303,7 +303,7 @@ Command add_compare_command(CLI::App& app) {
   command->add_option("--key", o->key, "Exact AO receiver keys: pixel (exao render's) or world (hash of the quantised position)")
       ->capture_default_str();
   command->add_option("--key-cell", o->key_cell, "World keys: grid cell as a fraction of the radius")->capture_default_str();
-  return [o, command]() { return command->parsed() ? run_compare(*o) : -1; };
+  return [o, command](const Invocation&) { return command->parsed() ? run_compare(*o) : -1; };
 }
 
 }  // namespace exao::cli

@@ -41,7 +41,7 @@ Command add_info_command(CLI::App& app) {
   auto options = std::make_shared<SceneOptions>();
   CLI::App* command = app.add_subcommand("info", "Triangles, bounds, sidedness and a suggested radius");
   add_scene_options(*command, *options);
-  return [options, command]() { return command->parsed() ? run_info(*options) : -1; };
+  return [options, command](const Invocation&) { return command->parsed() ? run_info(*options) : -1; };
 }
 
 }  // namespace exao::cli

@@ -25,16 +25,18 @@ struct EmbeddingScope {
 
 const Embedding* embedding() { return g_embedding; }
 
+std::vector<Command> register_commands(CLI::App& app) {
+  return {add_render_command(app), add_info_command(app),    add_bench_command(app), add_query_command(app),
+          add_bake_command(app),   add_compare_command(app), add_merge_command(app)};
+}
+
 int run_program(const std::vector<std::string>& args, const Embedding* embedding) {
   const EmbeddingScope scope(embedding);
   CLI::App app{"exao: exact ray-cast ambient occlusion (Laine & Karras 2010)"};
   app.name("exao");
   app.require_subcommand(1);
   app.set_version_flag("--version", "exao 0.1.0");
-  const std::vector<Command> commands = {
-      add_render_command(app), add_info_command(app),  add_bench_command(app),
-      add_query_command(app),  add_bake_command(app),  add_compare_command(app),
-  };
+  const std::vector<Command> commands = register_commands(app);
   try {
     // CLI11 takes a vector of arguments last first.
     std::vector<std::string> reversed(args.rbegin(), args.rend());
@@ -47,8 +49,10 @@ int run_program(const std::vector<std::string>& args, const Embedding* embedding
     return app.exit(e);
   }
   try {
+    Invocation invocation;
+    invocation.args = args;  // recorded in the parts of sharded jobs
     for (const Command& command : commands) {
-      if (const int status = command(); status >= 0) return status;
+      if (const int status = command(invocation); status >= 0) return status;
     }
   } catch (...) {
     // A cancelled (or failed) embedded run leaves no partial output behind, as an interrupted

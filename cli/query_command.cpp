@@ -21,21 +21,33 @@ struct QueryOptions {
   std::string points;
   std::string output = "ao.txt";
   bool stats = false;
+  ShardCliOptions shard;
 };
 
-int run_query(const QueryOptions& options) {
-  if (auto ok = check_output(options.output, options.scene.scene); !ok) return report(ok.error());
-  if (auto ok = check_output(options.output, options.points); !ok) return report(ok.error());
+int run_query(const QueryOptions& options, const Invocation& invocation) {
+  const std::string output = invocation.merge && !invocation.merge->output.empty() ? invocation.merge->output : options.output;
+  if (auto ok = check_output(output, options.scene.scene); !ok) return report(ok.error());
+  if (auto ok = check_output(output, options.points); !ok) return report(ok.error());
   Result<engine::Options> engine_options = make_options(options.scene, options.rays, options.method);
   if (!engine_options) return report(engine_options.error());
   if (auto ok = engine::check_serves(*engine_options, engine::Receivers::Points); !ok) return report(ok.error());
+  Result<std::optional<engine::Shard>> shard = resolve_shard(options.shard);
+  if (!shard) return report(shard.error());
   Result<std::vector<Receiver>> receivers = load_receivers(options.points);
   if (!receivers) return report(receivers.error());
+  if (invocation.merge) {
+    if (auto ok = check_merge_receivers(*invocation.merge, *receivers); !ok) return report(ok.error());
+  }
   Result<Scene> scene = open_scene(options.scene);
   if (!scene) return report(scene.error());
   Result<engine::Engine> engine = engine::Engine::build(*scene, *engine_options, engine::Receivers::Points);
   if (!engine) return report(engine.error());
   print_option_notes(*engine);
+  if (*shard) {
+    const JobRecord record = make_record("query", invocation, {options.scene.scene, options.points}, output, *receivers,
+                                         engine->samples());
+    return run_shard(record, *engine, *receivers, **shard);
+  }
 
   engine::Stats stats;
   Result<std::vector<float>> ao;
@@ -45,15 +57,17 @@ int run_query(const QueryOptions& options) {
     engine::RunOptions run;
     run.progress = bar.callback();
     if (options.stats) run.stats = &stats;
+    if (invocation.merge) run.supplied_blocked = invocation.merge->blocked;
     ao = engine->ao(*receivers, run);
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (!ao) return report(Error{options.points + ": " + ao.error().message});
-  if (auto ok = save_values(*ao, options.output); !ok) return report(ok.error());
+  if (auto ok = save_values(*ao, output); !ok) return report(ok.error());
   std::printf("%s: %zu receivers, N=%d, r=%g, %s: %.3f s (%.1f Mrays/s) -> %s\n", options.points.c_str(),
               receivers->size(), engine->samples(), static_cast<double>(engine->radius()),
               engine::method_name(engine->method()), seconds,
-              static_cast<double>(receivers->size()) * engine->samples() / seconds * 1e-6, options.output.c_str());
+              static_cast<double>(receivers->size()) * engine->samples() / seconds * 1e-6, output.c_str());
+  if (invocation.merge) std::printf("  AO from %s (the time above casts no rays)\n", invocation.merge->parts.c_str());
   if (options.stats) print_stats(stats);
   return 0;
 }
@@ -70,7 +84,8 @@ Command add_query_command(CLI::App& app) {
       ->required();
   command->add_option("-o,--output", options->output, "One AO value a line, in input order")->capture_default_str();
   command->add_flag("--stats", options->stats, "Print work counters: per receiver (bvh), or the culling stages (raster, slower)");
-  return [options, command]() { return command->parsed() ? run_query(*options) : -1; };
+  add_shard_options(*command, options->shard, false);
+  return [options, command](const Invocation& invocation) { return command->parsed() ? run_query(*options, invocation) : -1; };
 }
 
 }  // namespace exao::cli

@@ -25,9 +25,11 @@ struct RenderOptions {
   std::string png = "ao.png";
   bool counts = false;
   bool stats = false;
+  ShardCliOptions shard;
 };
 
-AoImage to_image(const PixelReceivers& pixels, const MaskSet& masks, bool counts) {
+// From blocked-ray counts (one per receiver): what a merge has, and what the masks give.
+AoImage to_image(const PixelReceivers& pixels, std::span<const std::uint32_t> blocked, int samples, bool counts) {
   AoImage image;
   image.width = pixels.width;
   image.height = pixels.height;
@@ -36,15 +38,16 @@ AoImage to_image(const PixelReceivers& pixels, const MaskSet& masks, bool counts
   image.coverage.assign(n, 0.0f);
   if (counts) image.blocked.assign(n, 0);
   for (std::size_t r = 0; r < pixels.receivers.size(); ++r) {
-    image.ao[pixels.pixel[r]] = masks.ao(r);
+    image.ao[pixels.pixel[r]] = ao_from_blocked(static_cast<int>(blocked[r]), samples);
     image.coverage[pixels.pixel[r]] = 1.0f;
-    if (counts) image.blocked[pixels.pixel[r]] = static_cast<std::uint32_t>(masks.blocked_count(r));
+    if (counts) image.blocked[pixels.pixel[r]] = blocked[r];
   }
   return image;
 }
 
-int run_render(const RenderOptions& options) {
-  if (auto ok = check_output(options.output, options.scene.scene); !ok) return report(ok.error());
+int run_render(const RenderOptions& options, const Invocation& invocation) {
+  const std::string output = invocation.merge && !invocation.merge->output.empty() ? invocation.merge->output : options.output;
+  if (auto ok = check_output(output, options.scene.scene); !ok) return report(ok.error());
   if (auto ok = check_output(options.png, options.scene.scene); !ok) return report(ok.error());
   Result<engine::Options> engine_options = make_options(options.scene, options.rays, options.method);
   if (!engine_options) return report(engine_options.error());
@@ -53,6 +56,12 @@ int run_render(const RenderOptions& options) {
   engine_options->lod = *lod;
   if (auto ok = engine::check_options(*engine_options); !ok) return report(ok.error());
   if (auto ok = engine::check_serves(*engine_options, engine::Receivers::Pixels); !ok) return report(ok.error());
+  Result<std::optional<engine::Shard>> shard = resolve_shard(options.shard);
+  if (!shard) return report(shard.error());
+  // Raster draws the whole image at once: it has no chunks of receivers to share out.
+  if (*shard && engine_options->method == engine::Method::Raster) {
+    return report(Error{"--shard: --method raster computes a camera's whole image at once; shard with bvh, brute or embree"});
+  }
 
   Result<Scene> scene = open_scene(options.scene);
   if (!scene) return report(scene.error());
@@ -76,23 +85,46 @@ int run_render(const RenderOptions& options) {
   }
   if (!levels) return report(levels.error());
   if (*levels) std::printf("%s\n", describe_lod(**levels).c_str());
+  if (*shard) {
+    const JobRecord record = make_record("render", invocation, {options.scene.scene}, output, pixels.receivers,
+                                         engine->samples());
+    return run_shard(record, *engine, pixels.receivers, **shard);
+  }
+  if (invocation.merge) {
+    if (auto ok = check_merge_receivers(*invocation.merge, pixels.receivers); !ok) return report(ok.error());
+  }
 
   engine::Stats stats;
   Result<MaskSet> masks;
+  std::vector<std::uint32_t> blocked;
   const auto start = std::chrono::steady_clock::now();
   {
     ProgressBar bar("render");
     engine::RunOptions run;
     run.progress = bar.callback();
     if (options.stats) run.stats = &stats;
-    masks = engine->pixel_masks(pixels, view->camera, run);
+    if (invocation.merge) {
+      // The parts' counts: no rays are cast (engine::RunOptions::supplied_blocked).
+      run.supplied_blocked = invocation.merge->blocked;
+      blocked.resize(pixels.receivers.size());
+      engine::Outputs outputs;
+      outputs.blocked = blocked;
+      if (auto ok = engine->run(pixels.receivers, outputs, run); !ok) return report(ok.error());
+      masks = MaskSet();
+    } else {
+      masks = engine->pixel_masks(pixels, view->camera, run);
+    }
   }
   const double seconds =
       gbuffer_seconds + std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (!masks) return report(masks.error());
 
-  const AoImage image = to_image(pixels, *masks, options.counts);
-  if (auto ok = write_exr(image, options.output); !ok) return report(ok.error());
+  if (!invocation.merge) {
+    blocked.resize(masks->size());
+    for (std::size_t r = 0; r < blocked.size(); ++r) blocked[r] = static_cast<std::uint32_t>(masks->blocked_count(r));
+  }
+  const AoImage image = to_image(pixels, blocked, engine->samples(), options.counts);
+  if (auto ok = write_exr(image, output); !ok) return report(ok.error());
   if (!options.png.empty()) {
     if (auto ok = write_png(image, options.png); !ok) return report(ok.error());
   }
@@ -100,8 +132,9 @@ int run_render(const RenderOptions& options) {
   std::printf("%s: %zu triangles, %dx%d, %zu receivers, N=%d, r=%g, %s: %.3f s (%.1f Mrays/s) -> %s%s%s\n",
               options.scene.scene.c_str(), scene->triangle_count(), pixels.width, pixels.height,
               pixels.receivers.size(), engine->samples(), static_cast<double>(engine->radius()),
-              *levels ? "raster+lod" : engine::method_name(engine->method()), seconds, mrays, options.output.c_str(),
+              *levels ? "raster+lod" : engine::method_name(engine->method()), seconds, mrays, output.c_str(),
               options.png.empty() ? "" : ", ", options.png.c_str());
+  if (invocation.merge) std::printf("  AO from %s (the time above casts no rays)\n", invocation.merge->parts.c_str());
   if (options.stats) print_stats(stats);
   return 0;
 }
@@ -120,7 +153,8 @@ Command add_render_command(CLI::App& app) {
   command->add_option("--png", options->png, "PNG preview (empty: none)")->capture_default_str();
   command->add_flag("--counts", options->counts, "Add a 'blocked' channel with the blocked-ray count");
   command->add_flag("--stats", options->stats, "Print work counters: per receiver (bvh), or the culling stages (raster, slower)");
-  return [options, command]() { return command->parsed() ? run_render(*options) : -1; };
+  add_shard_options(*command, options->shard, false);
+  return [options, command](const Invocation& invocation) { return command->parsed() ? run_render(*options, invocation) : -1; };
 }
 
 }  // namespace exao::cli

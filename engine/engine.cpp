@@ -68,6 +68,22 @@ std::string output_problem(const Outputs& out, std::size_t count, std::size_t wo
 
 }  // namespace
 
+std::pair<std::size_t, std::size_t> shard_chunks(std::size_t receivers, Shard shard) {
+  EXAO_CHECK(shard.count >= 1 && shard.index < shard.count);
+  const std::size_t chunks = (receivers + kChunk - 1) / kChunk;
+  // Products fit: chunks < 2^48 for any batch that fits in memory, count <= 2^16 in the CLI.
+  return {chunks * shard.index / shard.count, chunks * (shard.index + 1) / shard.count};
+}
+
+std::vector<std::uint32_t> shard_receivers(std::span<const Receiver> receivers, Shard shard) {
+  const auto [first, last] = shard_chunks(receivers.size(), shard);
+  if (first == last) return {};
+  const std::vector<std::uint32_t> order = morton_order(receivers);
+  const std::size_t begin = first * kChunk;
+  const std::size_t end = std::min(last * kChunk, receivers.size());
+  return {order.begin() + static_cast<std::ptrdiff_t>(begin), order.begin() + static_cast<std::ptrdiff_t>(end)};
+}
+
 Engine::Engine(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 Engine::Engine(Engine&&) noexcept = default;
 Engine& Engine::operator=(Engine&&) noexcept = default;
@@ -147,17 +163,44 @@ Result<void> Engine::run(std::span<const Receiver> receivers, const Outputs& out
   if (const std::string problem = output_problem(outputs, receivers.size(), words); !problem.empty()) return fail(problem);
   if (receivers.empty()) return {};
   const int n = samples();
+  if (!run.supplied_blocked.empty()) {
+    // Answers computed before (exao merge): the same formula, no rays.
+    if (run.supplied_blocked.size() != receivers.size()) {
+      return fail("supplied counts: " + std::to_string(run.supplied_blocked.size()) + " values for " +
+                  std::to_string(receivers.size()) + " receivers");
+    }
+    if (!outputs.masks.empty()) return fail("outputs.masks: masks cannot be made from supplied counts");
+    for (std::size_t r = 0; r < receivers.size(); ++r) {
+      const std::uint32_t blocked = run.supplied_blocked[r];
+      if (blocked > static_cast<std::uint32_t>(n)) {
+        return fail("supplied counts: receiver " + std::to_string(r) + " has " + std::to_string(blocked) +
+                    " blocked rays of " + std::to_string(n));
+      }
+      if (!outputs.ao.empty()) outputs.ao[r] = ao_from_blocked(static_cast<int>(blocked), n);
+      if (!outputs.blocked.empty()) outputs.blocked[r] = blocked;
+    }
+    if (run.progress) run.progress(receivers.size(), receivers.size());
+    return {};
+  }
+  if (run.shard && (run.shard->count < 1 || run.shard->index >= run.shard->count)) {
+    return fail("shard: part " + std::to_string(run.shard->index) + " of " + std::to_string(run.shard->count) +
+                " does not exist");
+  }
+  const auto [first_chunk, last_chunk] = shard_chunks(receivers.size(), run.shard.value_or(Shard{}));
+  if (first_chunk == last_chunk) return {};
   impl.arena->execute([&] {
     // Chunks of the Morton order: each chunk's receivers are neighbours, and only one chunk's
-    // masks exist at a time.
+    // masks exist at a time. A shard runs its own chunks only, exactly as the whole batch would.
     const std::vector<std::uint32_t> order = morton_order(receivers);
     std::vector<Receiver> chunk(std::min(kChunk, receivers.size()));
-    for (std::size_t begin = 0; begin < receivers.size(); begin += kChunk) {
+    const std::size_t first = first_chunk * kChunk;
+    const std::size_t end = std::min(last_chunk * kChunk, receivers.size());
+    for (std::size_t begin = first; begin < end; begin += kChunk) {
       const std::size_t count = std::min(kChunk, receivers.size() - begin);
       for (std::size_t i = 0; i < count; ++i) chunk[i] = receivers[order[begin + i]];
       ProgressCallback progress;
       if (run.progress) {
-        progress = [&, begin](std::size_t done, std::size_t) { run.progress(begin + done, receivers.size()); };
+        progress = [&, begin](std::size_t done, std::size_t) { run.progress(begin - first + done, end - first); };
       }
       const MaskSet masks = impl.backend_masks(std::span<const Receiver>(chunk.data(), count), progress, run);
       EXAO_CHECK_EQ(masks.size(), count);
@@ -242,6 +285,9 @@ Result<MaskSet> Engine::pixel_masks(const PixelReceivers& pixels, const Camera& 
   const Impl& impl = *impl_;
   if (auto ok = check_serves(impl.options, Receivers::Pixels); !ok) return std::unexpected(ok.error());
   if (impl.options.method != Method::Raster) return masks(pixels.receivers, run);
+  if (run.shard || !run.supplied_blocked.empty()) {
+    return fail("method: raster computes a camera's whole image at once and cannot be sharded; use bvh, brute or embree");
+  }
   Result<std::optional<LodLevels>> lod = prepare_lod(pixels, camera);
   if (!lod) return std::unexpected(lod.error());
   raster::RasterOptions options = impl.options.raster;

@@ -17,6 +17,7 @@
 #include <memory>
 #include <optional>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "bvh/traverse.h"
@@ -40,6 +41,22 @@ namespace exao::engine {
 /// bytes, 8 MiB at N = 1024) while leaving every call hundreds of tasks for the threads.
 inline constexpr std::size_t kChunk = std::size_t{1} << 16;
 
+/// Part `index` of a batch cut into `count` parts for a job spread over processes or machines
+/// (exao --shard K/N): whole chunks of kChunk receivers of the engine's Morton order, part K
+/// holding chunks [floor(C * K / N), floor(C * (K + 1) / N)) of the batch's C chunks, so parts
+/// differ by at most one chunk and each is a coherent piece of the scene. A part may be empty
+/// (fewer chunks than parts). Every receiver's answer is the one the whole batch gives it: the
+/// chunks are the same chunks, in the same order.
+struct Shard {
+  std::size_t index = 0;  // in [0, count)
+  std::size_t count = 1;  // at least 1
+};
+
+/// The chunks [first, second) of a batch of `receivers` receivers that `shard` holds.
+[[nodiscard]] std::pair<std::size_t, std::size_t> shard_chunks(std::size_t receivers, Shard shard);
+/// The receivers of `shard` (indices into `receivers`), in the order the engine visits them.
+[[nodiscard]] std::vector<std::uint32_t> shard_receivers(std::span<const Receiver> receivers, Shard shard);
+
 /// Work counters a backend reports: per receiver for bvh, per culling stage for raster.
 struct Stats {
   bvh::TraversalStats traversal;
@@ -54,6 +71,13 @@ struct RunOptions {
   Stats* stats = nullptr;
   /// Overrides options.embree.rays for this call (exao bench times several).
   std::optional<EmbreeRays> embree_rays;
+  /// Only this part's receivers are computed (shard_receivers); the outputs of the others are
+  /// left as they were. Progress counts the part's receivers.
+  std::optional<Shard> shard;
+  /// When not empty, the blocked-ray counts of every receiver, computed before (the parts of a
+  /// sharded job, put together by exao merge): outputs are made from them and nothing is cast.
+  /// Masks cannot be made from counts: asking for them fails.
+  std::span<const std::uint32_t> supplied_blocked;
 };
 
 /// Where a batch's results go: any of these may be empty; a non-empty one holds one entry per

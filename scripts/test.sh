@@ -3,8 +3,10 @@
 # them with CTest. Benchmarks are built and smoke-run only; `exao bench` measures speed.
 # Then, unless --quick is given: the whole suite again under ASan + UBSan (build-sanitize/,
 # scripts/test-sanitize.sh) and every fuzz campaign for FUZZ_SECONDS (default 60 here) each,
-# failing on any crash (build-fuzz/, scripts/fuzz.sh). CI runs all three: about an hour on 2
-# cores from a cold cache (plain build + tests ~15 min, sanitizer build + tests ~30, fuzzing ~15).
+# failing on any crash (build-fuzz/, scripts/fuzz.sh). As root it installs SLURM
+# (scripts/install-slurm.sh) so that the scheduler test (tests/slurm_shards.sh) runs.
+# CI runs all three: about an hour on 2 cores from a cold cache (plain build + tests ~15 min,
+# sanitizer build + tests ~30, fuzzing ~15).
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 quick=0
@@ -14,6 +16,9 @@ bash "$here/scripts/install-python.sh"  # the Python module and Blender add-on t
 cmake -S "$here" -B "$here/build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DEXAO_WERROR=ON
 cmake --build "$here/build" -j2
 bash "$here/scripts/install-test-tools.sh" "$here/build"
+# SLURM for the sharded bake on a real scheduler (ctest's slurm_shards): the test starts its own
+# one-node cluster and reports itself skipped where SLURM cannot be installed (not root).
+if [ "$(id -u)" = 0 ]; then bash "$here/scripts/install-slurm.sh"; fi
 ctest --test-dir "$here/build" --output-on-failure -j2
 if [ "$quick" = 0 ]; then
   bash "$here/scripts/test-sanitize.sh"

@@ -157,6 +157,117 @@ TEST(Engine, BatchesLargerThanAChunkKeepTheCallersOrder) {
   EXPECT_FALSE(points.run(receivers, {wrong, {}, {}}));
 }
 
+// Shards (exao --shard): whole chunks of the Morton order that partition the batch, each
+// receiver's answer the whole batch's, and counts supplied back give the same outputs.
+TEST(Engine, ShardsPartitionTheBatchInWholeChunksWithTheWholeBatchsAnswers) {
+  Result<Scene> room = open_scene("room");
+  ASSERT_TRUE(room);
+  engine::Options options = options_for();
+  options.samples = 32;
+  const engine::Engine pixels = build(*room, options, engine::Receivers::Pixels);
+  Result<PixelReceivers> grid = pixels.pixel_receivers(room->cameras.front(), 400, 400);
+  ASSERT_TRUE(grid);
+  const std::vector<Receiver>& receivers = grid->receivers;
+  ASSERT_GT(receivers.size(), 2 * engine::kChunk);
+  const engine::Engine points = build(*room, options, engine::Receivers::Points);
+  std::vector<std::uint32_t> whole(receivers.size());
+  ASSERT_TRUE(points.run(receivers, {{}, whole, {}}));
+
+  for (const std::size_t count : {std::size_t{1}, std::size_t{2}, std::size_t{3}, std::size_t{7}}) {
+    constexpr std::uint32_t kUnset = ~std::uint32_t{0};
+    std::vector<std::uint32_t> seen(receivers.size(), kUnset);
+    for (std::size_t k = 0; k < count; ++k) {
+      const engine::Shard shard{k, count};
+      const std::vector<std::uint32_t> mine = engine::shard_receivers(receivers, shard);
+      const auto [first, last] = engine::shard_chunks(receivers.size(), shard);
+      EXPECT_EQ(mine.size(), std::min(last * engine::kChunk, receivers.size()) - std::min(first * engine::kChunk, receivers.size()));
+      std::vector<std::uint32_t> part(receivers.size(), kUnset);
+      engine::RunOptions run;
+      run.shard = shard;
+      std::size_t last_done = 0;
+      run.progress = [&](std::size_t done, std::size_t total) {
+        EXPECT_EQ(total, mine.size());
+        last_done = std::max(last_done, done);
+      };
+      ASSERT_TRUE(points.run(receivers, {{}, part, {}}, run));
+      EXPECT_EQ(last_done, mine.size());
+      std::size_t written = 0;
+      for (const std::uint32_t r : mine) {
+        EXPECT_EQ(seen[r], kUnset) << "receiver " << r << " in two shards of " << count;
+        seen[r] = part[r];
+        EXPECT_EQ(part[r], whole[r]) << "receiver " << r << ", shard " << k << " of " << count;
+      }
+      for (const std::uint32_t b : part) written += b != kUnset;
+      EXPECT_EQ(written, mine.size()) << "shard " << k << " of " << count << " wrote outside its receivers";
+    }
+    EXPECT_EQ(seen, whole) << count << " shards";
+  }
+
+  // Counts supplied back (exao merge): the same AO as the whole run, and nothing cast.
+  std::vector<float> ao(receivers.size()), again(receivers.size());
+  ASSERT_TRUE(points.run(receivers, {ao, {}, {}}));
+  engine::RunOptions supplied;
+  supplied.supplied_blocked = whole;
+  ASSERT_TRUE(points.run(receivers, {again, {}, {}}, supplied));
+  EXPECT_EQ(ao, again);
+  std::vector<std::uint64_t> masks(receivers.size() * points.mask_words());
+  EXPECT_FALSE(points.run(receivers, {{}, {}, masks}, supplied));
+  engine::RunOptions bad;
+  bad.shard = engine::Shard{3, 3};
+  EXPECT_FALSE(points.run(receivers, {ao, {}, {}}, bad));
+}
+
+// A texture bake's shards split the texels of one chart (a seam inside the map), and the map is
+// made once from every shard's answers: here each shard's receivers answer 8 * K blocked rays, so
+// a texel's value says which shards its samples came from.
+TEST(Engine, TextureShardsMeetInsideChartsAndTheMapIsMadeFromAllOfThem) {
+  bake::ConvertOptions convert;
+  convert.atlas_size = 512;
+  convert.atlas_padding = 10;
+  Result<bake::Document> document = bake::Document::open("room", convert);
+  ASSERT_TRUE(document) << document.error().message;
+  bake::BakeOptions options;
+  options.target = bake::Target::Texture;
+  options.texture_size = 512;
+  Result<std::vector<Receiver>> receivers = bake::bake_receivers(*document, options);
+  ASSERT_TRUE(receivers) << receivers.error().message;
+  ASSERT_GT(receivers->size(), 4 * engine::kChunk);
+  std::vector<std::uint32_t> blocked(receivers->size(), ~std::uint32_t{0});
+  for (std::size_t k = 0; k < 4; ++k) {
+    for (const std::uint32_t r : engine::shard_receivers(*receivers, {k, 4})) blocked[r] = static_cast<std::uint32_t>(8 * k);
+  }
+  for (const std::uint32_t b : blocked) ASSERT_NE(b, ~std::uint32_t{0});  // the shards cover every receiver
+  engine::Options engine_options = options_for();
+  engine_options.samples = 32;
+  const engine::Engine engine = build(document->scene(), engine_options, engine::Receivers::Points);
+  engine::RunOptions run;
+  run.supplied_blocked = blocked;
+  Result<bake::BakeResult> result = bake::bake(*document, options, engine, run);
+  ASSERT_TRUE(result) << result.error().message;
+  ASSERT_EQ(result->maps.size(), 1u);
+  const bake::AoMap& map = result->maps.front();
+  const auto pure = [](float ao) {
+    for (int k = 0; k < 4; ++k) {
+      if (ao == ao_from_blocked(8 * k, 32)) return true;
+    }
+    return false;
+  };
+  std::size_t seams = 0, mixed = 0, margin_from_two = 0;
+  for (int y = 0; y + 1 < map.size; ++y) {
+    for (int x = 0; x + 1 < map.size; ++x) {
+      const std::size_t at = static_cast<std::size_t>(y) * map.size + x;
+      if (map.filled[at] == 1 && !pure(map.ao[at])) ++mixed;  // samples of two shards in one texel
+      for (const std::size_t next : {at + 1, at + map.size}) {
+        if (map.filled[at] == 1 && map.filled[next] == 1 && map.ao[at] != map.ao[next]) ++seams;
+        if (map.filled[at] == 2 && map.filled[next] == 2 && map.ao[at] != map.ao[next]) ++margin_from_two;
+      }
+    }
+  }
+  EXPECT_GT(seams, 0u) << "no two neighbouring covered texels come from different shards";
+  EXPECT_GT(mixed, 0u) << "no texel holds samples of two shards";
+  EXPECT_GT(margin_from_two, 0u) << "the dilated margin does not follow the shards' values";
+}
+
 TEST(Engine, MortonOrderIsAPermutationEvenWithNaN) {
   const float nan = std::numeric_limits<float>::quiet_NaN();
   const float inf = std::numeric_limits<float>::infinity();
