@@ -416,6 +416,33 @@ Result<Engine> Engine::open(std::string_view name_or_path, const Options& option
   });
 }
 
+Result<Engine> Engine::with_settings(const QuerySettings& settings) const noexcept {
+  return guard<Result<Engine>>([&]() -> Result<Engine> {
+    if (!impl_) return invalid("engine: empty (moved from)");
+    engine::Options options = impl_->engine.options();
+    if (settings.radius) options.radius = engine::Length{*settings.radius, false};
+    if (settings.origin_offset) options.origin_offset = settings.origin_offset;
+    if (settings.samples) options.samples = *settings.samples;
+    exao::Result<engine::Engine> e =
+        engine::Engine::build(impl_->engine.shared_geometry(), options, engine::Receivers::Points);
+    if (!e) {
+      Error error = from_engine(e.error(), StatusCode::InternalError);
+      // The library names its options; here they are the settings'.
+      if (error.message.starts_with("options.")) error.message.replace(0, 7, "settings");
+      return error;
+    }
+    auto impl = std::make_unique<Impl>(Impl{std::move(*e), impl_->info});
+    EngineInfo& info = impl->info;
+    info.samples = impl->engine.samples();
+    info.mask_words = impl->engine.mask_words();
+    info.radius = impl->engine.radius();
+    info.origin_offset = impl->engine.origin_offset();
+    info.table_resolution = impl->engine.mask_engine() ? impl->engine.mask_engine()->table_resolution() : 0;
+    info.table_bytes = impl->engine.mask_engine() ? impl->engine.mask_engine()->table_bytes() : 0;
+    return Engine(std::move(impl));
+  });
+}
+
 const EngineInfo& Engine::info() const noexcept { return impl_ ? impl_->info : kEmptyInfo; }
 
 Result<float> Engine::ao(const Receiver& receiver) const noexcept {

@@ -37,11 +37,15 @@ struct Engine::Impl {
   // hit the same triangles: a ray longer than r' becomes one of length r' >= reach, a shorter
   // one keeps its world length l_i r. Whatever the falloff, the masks are computed at r' instead
   // of r whenever r' < r, and the scene stays about unit size in the kernels' units, as at any
-  // radius near the scene's size. r' is the power of two at or above reach (reach() rounds up by
-  // 1e-4, far above the float rounding of l'_i r'), so that one engine per power serves every
-  // batch and single query; each is built once, on first use (the rays' pattern with the new
-  // lengths, the same mode, table resolution and instruction set).
+  // radius near the scene's size. r' is a power of two at or above reach (reach() rounds up by
+  // 1e-4, far above the float rounding of l'_i r'), and at least the one above twice the
+  // occluders' diagonal: so every receiver within a diagonal of the scene gets the same r', and
+  // a batch, a single query and the raster pixels of the same receivers give the same bits (a
+  // batch with receivers farther out uses the r' of its farthest). Each engine is built once,
+  // on first use (the rays' pattern with the new lengths, the same mode, table resolution and
+  // instruction set).
   glm::dvec3 occluder_lo{0.0}, occluder_hi{0.0};
+  int base_exponent = 0;  // 2^base_exponent >= twice the occluders' diagonal
   struct ClampedMasks {
     std::once_flag once;
     std::optional<lut::MaskEngine> engine;
@@ -62,6 +66,7 @@ struct Engine::Impl {
   [[nodiscard]] const lut::MaskEngine& masks_for(double reach) const {
     int exponent = 0;
     (void)std::frexp(reach, &exponent);  // reach < 2^exponent
+    exponent = std::max(exponent, base_exponent);
     if (!(reach > 0.0) || exponent >= kMinExponent + static_cast<int>(clamped.size()) ||
         std::ldexp(1.0, exponent) >= static_cast<double>(rays.radius)) {
       return *masks;
@@ -198,6 +203,7 @@ Result<Engine> Engine::build(std::shared_ptr<const Geometry> geometry, const Opt
   const Bounds& occluders = impl->geometry->occluder_bounds();
   impl->occluder_lo = glm::dvec3(occluders.lo);
   impl->occluder_hi = glm::dvec3(occluders.hi);
+  (void)std::frexp(2.0 * glm::length(impl->occluder_hi - impl->occluder_lo) * (1.0 + 1e-4), &impl->base_exponent);
   if (!built) return std::unexpected(built.error());
   return Engine(std::move(impl));
 }
@@ -206,6 +212,7 @@ const Options& Engine::options() const { return impl_->options; }
 const ShadowRays& Engine::rays() const { return impl_->rays; }
 const lut::MaskEngine* Engine::mask_engine() const { return impl_->masks ? &*impl_->masks : nullptr; }
 const Geometry& Engine::geometry() const { return *impl_->geometry; }
+std::shared_ptr<const Geometry> Engine::shared_geometry() const { return impl_->geometry; }
 int Engine::threads() const { return impl_->arena->max_concurrency(); }
 
 Result<void> Engine::run(std::span<const Receiver> receivers, const Outputs& outputs, const RunOptions& run) const {

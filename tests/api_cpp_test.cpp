@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <optional>
 #include <random>
 #include <sstream>
 #include <string>
@@ -460,6 +461,71 @@ TEST(ApiCpp, ABadReceiverDoesNotFailTheBatch) {
   std::vector<StatusCode> wrong_size(3);
   batch.statuses = wrong_size;
   EXPECT_EQ(engine->ao(receivers, ao, batch).code(), StatusCode::InvalidArgument);
+}
+
+}  // namespace
+}  // namespace exao::api
+
+namespace exao::api {
+namespace {
+
+// Per-call settings (issue 22): an engine derived with another radius, offset and N over the
+// same scene gives the bits of an engine built from scratch with them, leaves its source as it
+// was, outlives it, and names its bad settings.
+TEST(ApiCpp, WithSettingsEqualsAFreshEngine) {
+  Options o;
+  o.samples = 64;
+  o.radius = 0.5f;
+  std::optional<Engine> base;
+  {
+    Result<Engine> built = Engine::open("room", o);
+    ASSERT_TRUE(built) << built.error().message;
+    base.emplace(std::move(*built));
+  }
+  const std::vector<Receiver> receivers = surface_receivers(*load_scene("room"), 400, 11);
+  std::vector<float> before(receivers.size());
+  ASSERT_TRUE(base->ao(receivers, before));
+
+  QuerySettings settings;
+  settings.radius = 1.25f;
+  settings.samples = 128;
+  settings.origin_offset = 0.002f;
+  Result<Engine> derived = base->with_settings(settings);
+  ASSERT_TRUE(derived) << derived.error().message;
+  EXPECT_EQ(derived->info().radius, 1.25f);
+  EXPECT_EQ(derived->info().samples, 128);
+  EXPECT_EQ(derived->info().origin_offset, 0.002f);
+  EXPECT_EQ(derived->info().triangles, base->info().triangles);
+
+  Options fresh_options = o;
+  fresh_options.radius = 1.25f;
+  fresh_options.samples = 128;
+  fresh_options.origin_offset = 0.002f;
+  Result<Engine> fresh = Engine::open("room", fresh_options);
+  ASSERT_TRUE(fresh) << fresh.error().message;
+  std::vector<float> want(receivers.size()), got(receivers.size()), again(receivers.size());
+  ASSERT_TRUE(fresh->ao(receivers, want));
+  ASSERT_TRUE(derived->ao(receivers, got));
+  EXPECT_EQ(got, want);
+  ASSERT_TRUE(base->ao(receivers, again));
+  EXPECT_EQ(again, before) << "the source engine changed";
+
+  base.reset();  // the derived engine shares the scene, and keeps it alive
+  ASSERT_TRUE(derived->ao(receivers, got));
+  EXPECT_EQ(got, want);
+  EXPECT_EQ(*derived->ao(receivers[3]), want[3]);
+
+  QuerySettings bad;
+  bad.samples = 33;
+  const Result<Engine> bad_samples = derived->with_settings(bad);
+  ASSERT_FALSE(bad_samples);
+  EXPECT_NE(bad_samples.error().message.find("settings.samples"), std::string::npos) << bad_samples.error().message;
+  bad = {};
+  bad.radius = 0.0f;
+  const Result<Engine> bad_radius = derived->with_settings(bad);
+  ASSERT_FALSE(bad_radius);
+  EXPECT_EQ(bad_radius.code(), StatusCode::InvalidArgument);
+  EXPECT_NE(bad_radius.error().message.find("settings.radius"), std::string::npos) << bad_radius.error().message;
 }
 
 }  // namespace

@@ -25,7 +25,13 @@
 //
 // Errors: every function is noexcept. Bad input returns an Error (a StatusCode and a one-line
 // message naming the argument); nothing is thrown across this boundary, printed, or fatal; an
-// allocation failure returns StatusCode::OutOfMemory.
+// allocation failure returns StatusCode::OutOfMemory. Only reading the value of a Result that
+// holds an error (or its error when it holds a value) throws, BadResultAccess, in the caller's
+// code: a precondition violation that must not pass silently in a Release build.
+//
+// Radius: every radius up to 1e17 is exact, far beyond the scene too (a renderer's "unbounded"):
+// no segment from a receiver reaches geometry past the farthest corner of the occluders' box,
+// so the masks cap every ray there, which hits the same triangles.
 //
 // Threads: an Engine is immutable after build. Any number of threads may call its const
 // functions at the same time, on the same engine, with no locking by the caller. Single queries
@@ -400,6 +406,14 @@ struct BatchOptions {
   std::optional<EmbreeRays> embree_rays;
 };
 
+/// Settings of queries that differ from an engine's own (Engine::with_settings): a renderer's
+/// per-material AO distance, or fewer rays for a preview. nullopt keeps the engine's.
+struct QuerySettings {
+  std::optional<float> radius;         // r, world units: as Options::radius
+  std::optional<float> origin_offset;  // eps, world units: as Options::origin_offset
+  std::optional<int> samples;          // N: as Options::samples
+};
+
 /// An AO engine: the scene's triangles in the backend's structure, the sample pattern and the
 /// look-up table, built once. Move-only; a moved-from engine answers every query with
 /// InvalidArgument. Immutable after build: every const member may be called from any number of
@@ -423,6 +437,15 @@ class EXAO_API Engine {
   Engine(const Engine&) = delete;
   Engine& operator=(const Engine&) = delete;
   ~Engine();
+
+  /// An engine over the same scene with other settings: it shares this engine's BVH, Embree
+  /// scene and triangles (nothing of the scene is copied or rebuilt, and it stays valid after
+  /// this engine is destroyed), with its own rays. Sample patterns are cached by N, falloff and
+  /// seed, so making one costs the pattern's sample arrays (microseconds) and, with
+  /// MaskMode::Lut, a plane table (about a second): make one per material or setting once, and
+  /// query it like any engine. Errors: InvalidArgument naming settings.radius,
+  /// settings.origin_offset or settings.samples, or the engine when it is empty.
+  [[nodiscard]] Result<Engine> with_settings(const QuerySettings& settings) const noexcept;
 
   /// The resolved settings and sizes (for an empty, moved-from engine: all zero).
   [[nodiscard]] const EngineInfo& info() const noexcept;
