@@ -229,6 +229,30 @@ exao_status exao_engine_open(const char* name_or_path, const exao_options* optio
   return finish_create(Engine::open(name_or_path, to_cpp(options)), engine, error_buffer, error_buffer_size);
 }
 
+exao_status exao_engine_with_settings(const exao_engine* engine, float radius, float origin_offset, int samples,
+                                      exao_engine** derived, char* error_buffer, size_t error_buffer_size) {
+  if (!derived) {
+    copy_message("derived: null", error_buffer, error_buffer_size);
+    return EXAO_INVALID_ARGUMENT;
+  }
+  *derived = nullptr;
+  if (!engine) {
+    copy_message("engine: null", error_buffer, error_buffer_size);
+    return EXAO_INVALID_ARGUMENT;
+  }
+  try {
+    exao::api::QuerySettings settings;
+    // Negative (and 0 samples) are C's spelling of "the engine's own", as in exao_options.
+    if (!(radius < 0.0f)) settings.radius = radius;
+    if (!(origin_offset < 0.0f)) settings.origin_offset = origin_offset;
+    if (samples != 0) settings.samples = samples;
+    return finish_create(engine->engine.with_settings(settings), derived, error_buffer, error_buffer_size);
+  } catch (...) {
+    copy_message("out of memory", error_buffer, error_buffer_size);
+    return EXAO_OUT_OF_MEMORY;
+  }
+}
+
 void exao_engine_destroy(exao_engine* engine) {
   // A later engine at the same address must not inherit this thread's message.
   if (engine && t_last.engine == engine) record_success(nullptr);
@@ -331,6 +355,23 @@ exao_status exao_ao_batch(const exao_engine* engine, const exao_receiver* receiv
     std::optional<std::vector<exao::api::Receiver>> converted = convert(receivers, count);
     if (!converted) return record(engine, StatusCode::OutOfMemory, "out of memory");
     const exao::api::Status ok = engine->engine.ao(*converted, std::span<float>(ao, count));
+    return ok ? EXAO_OK : record(engine, ok.error());
+  });
+}
+
+exao_status exao_ao_batch_statuses(const exao_engine* engine, const exao_receiver* receivers, size_t count, float* ao,
+                                   exao_status* statuses) {
+  return c_boundary(engine, [&]() -> exao_status {
+    if (!engine) return EXAO_INVALID_ARGUMENT;
+    if (count == 0) return EXAO_OK;
+    if (!receivers || !ao || !statuses) return record(engine, StatusCode::InvalidArgument, "receivers, ao or statuses: null");
+    std::optional<std::vector<exao::api::Receiver>> converted = convert(receivers, count);
+    if (!converted) return record(engine, StatusCode::OutOfMemory, "out of memory");
+    std::vector<StatusCode> codes(count, StatusCode::Ok);
+    exao::api::BatchOptions batch;
+    batch.statuses = codes;
+    const exao::api::Status ok = engine->engine.ao(*converted, std::span<float>(ao, count), batch);
+    for (std::size_t i = 0; i < count; ++i) statuses[i] = to_c(codes[i]);
     return ok ? EXAO_OK : record(engine, ok.error());
   });
 }

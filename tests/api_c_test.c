@@ -215,6 +215,34 @@ static void bad_arguments(void) {
         "a query that succeeds clears the message: '%s'", message);
   CHECK(exao_ao(engine, p, up, 0, &ao) == EXAO_OK && ao == out[0], "single == batch (same point, normal and key)");
   CHECK(exao_engine_last_error(NULL, NULL, 0) == 0, "null engine, no message");
+
+  /* Per-receiver statuses: the bad receiver is named and NaN, the good one computed. */
+  exao_status statuses[2] = {EXAO_INTERNAL_ERROR, EXAO_INTERNAL_ERROR};
+  out[0] = out[1] = -1.0f;
+  CHECK(exao_ao_batch_statuses(engine, receivers, 2, out, statuses) == EXAO_INVALID_ARGUMENT, "one bad receiver");
+  CHECK(statuses[0] == EXAO_OK && statuses[1] == EXAO_INVALID_ARGUMENT, "statuses %d %d", statuses[0], statuses[1]);
+  CHECK(out[0] == ao && isnan(out[1]), "computed %g and NaN %g", out[0], out[1]);
+
+  /* A derived engine with another radius and N equals one built with them. */
+  exao_engine* derived = NULL;
+  CHECK(exao_engine_with_settings(engine, 0.75f, -1.0f, 64, &derived, message, sizeof message) == EXAO_OK, "derived: %s",
+        message);
+  exao_engine* fresh = NULL;
+  options.radius = 0.75f;
+  options.samples = 64;
+  CHECK(exao_engine_create(&mesh, 1, &options, &fresh, message, sizeof message) == EXAO_OK, "fresh: %s", message);
+  if (derived && fresh) {
+    float a = -1.0f, b = -2.0f;
+    CHECK(exao_ao(derived, p, up, 5, &a) == EXAO_OK && exao_ao(fresh, p, up, 5, &b) == EXAO_OK && a == b,
+          "derived == fresh: %g %g", a, b);
+    CHECK(exao_engine_samples(derived) == 64, "derived N");
+  }
+  exao_engine_destroy(fresh);
+  exao_engine_destroy(derived);
+  derived = NULL;
+  CHECK(exao_engine_with_settings(engine, 0.0f, -1.0f, 0, &derived, message, sizeof message) == EXAO_INVALID_ARGUMENT &&
+            derived == NULL && strstr(message, "settings.radius") != NULL,
+        "derived radius 0 refused: %s", message);
   exao_engine_destroy(engine);
   exao_engine_destroy(NULL);
 

@@ -129,6 +129,13 @@ EXAO_API exao_status exao_engine_open(const char* name_or_path, const exao_optio
 /* Releases an engine. NULL is ignored. No query may be running on it. */
 EXAO_API void exao_engine_destroy(exao_engine* engine);
 
+/* An engine over the same scene with other settings (exao::api::Engine::with_settings): it
+ * shares the scene's structures (nothing is rebuilt) and outlives `engine`; destroy it with
+ * exao_engine_destroy. radius and origin_offset negative, samples 0: the engine's own. Errors:
+ * EXAO_INVALID_ARGUMENT naming settings.radius, settings.origin_offset or settings.samples. */
+EXAO_API exao_status exao_engine_with_settings(const exao_engine* engine, float radius, float origin_offset, int samples,
+                                               exao_engine** derived, char* error_buffer, size_t error_buffer_size);
+
 /* What an engine was built with, defaults resolved (see exao::api::EngineInfo). */
 typedef struct exao_engine_info {
   exao_backend backend;
@@ -192,6 +199,11 @@ EXAO_API exao_status exao_mask(const exao_engine* engine, const float position[3
  * ao NaN while every other is computed; the call then returns EXAO_INVALID_ARGUMENT, and
  * exao_engine_last_error names the first bad receiver and how many there were. */
 EXAO_API exao_status exao_ao_batch(const exao_engine* engine, const exao_receiver* receivers, size_t count, float* ao);
+
+/* exao_ao_batch with one status per receiver: statuses[i] (count entries, not NULL) is EXAO_OK
+ * for a receiver that was computed, EXAO_INVALID_ARGUMENT for a bad one (whose ao is NaN). */
+EXAO_API exao_status exao_ao_batch_statuses(const exao_engine* engine, const exao_receiver* receivers, size_t count,
+                                            float* ao, exao_status* statuses);
 
 /* Masks of count receivers, in parallel: receiver i's (N + 63) / 64 words at
  * words[i * ((N + 63) / 64)]; `words` holds count * ((N + 63) / 64) words. */
