@@ -1,6 +1,7 @@
 // The C API (exao/exao.h): thin wrappers over exao::api::Engine. Each function converts its
 // plain-C arguments, calls the C++ API and turns its Result into a status code; the message of a
-// failed query is kept in the engine handle (under a mutex: queries run concurrently).
+// failed query is kept per thread (like errno), so that concurrent queries never see each
+// other's messages, and a query that succeeds clears it.
 
 #include "exao/exao.h"
 
@@ -22,8 +23,6 @@ using exao::api::StatusCode;
 struct exao_engine {
   explicit exao_engine(Engine built) : engine(std::move(built)) {}
   Engine engine;
-  mutable std::mutex mutex;
-  mutable std::string last_error;
 };
 
 namespace {
@@ -31,7 +30,9 @@ namespace {
 static_assert(static_cast<int>(StatusCode::Ok) == EXAO_OK && static_cast<int>(StatusCode::InvalidArgument) == EXAO_INVALID_ARGUMENT &&
               static_cast<int>(StatusCode::OutOfMemory) == EXAO_OUT_OF_MEMORY && static_cast<int>(StatusCode::FileError) == EXAO_FILE_ERROR &&
               static_cast<int>(StatusCode::BackendError) == EXAO_BACKEND_ERROR &&
-              static_cast<int>(StatusCode::InternalError) == EXAO_INTERNAL_ERROR);
+              static_cast<int>(StatusCode::InternalError) == EXAO_INTERNAL_ERROR &&
+              static_cast<int>(StatusCode::Cancelled) == EXAO_CANCELLED &&
+              static_cast<int>(StatusCode::CallbackError) == EXAO_CALLBACK_ERROR);
 static_assert(sizeof(exao_receiver) == sizeof(exao::api::Receiver));
 
 exao_status to_c(StatusCode code) { return static_cast<exao_status>(static_cast<int>(code)); }
@@ -46,24 +47,41 @@ std::size_t copy_message(const std::string& message, char* buffer, std::size_t s
   return message.size();
 }
 
-// Records a failed query's message in the engine (best effort: a failed allocation keeps the
-// previous message) and returns its status.
-exao_status record(const exao_engine* engine, const Error& error) {
-  try {
-    const std::lock_guard lock(engine->mutex);
-    engine->last_error = error.message;
-  } catch (...) {
-  }
-  return to_c(error.code);
-}
+// This thread's most recent query: on which engine, and its message when it failed ("" when it
+// succeeded).
+struct LastQuery {
+  const exao_engine* engine = nullptr;
+  std::string message;
+};
+thread_local LastQuery t_last;
 
-exao_status record(const exao_engine* engine, StatusCode code, const char* message) {
+// Records a failed query's message (best effort: a failed allocation leaves it empty) and
+// returns its status.
+exao_status record(const exao_engine* engine, StatusCode code, const std::string& message) {
+  t_last.engine = engine;
+  t_last.message.clear();
   try {
-    const std::lock_guard lock(engine->mutex);
-    engine->last_error = message;
+    t_last.message = message;
   } catch (...) {
   }
   return to_c(code);
+}
+
+exao_status record(const exao_engine* engine, const Error& error) { return record(engine, error.code, error.message); }
+
+exao_status record(const exao_engine* engine, StatusCode code, const char* message) {
+  try {
+    return record(engine, code, std::string(message));
+  } catch (...) {
+    return record(engine, code, std::string());
+  }
+}
+
+// A query that succeeded: this thread has no error on `engine` any more (clear() keeps the
+// string's storage: no allocation).
+void record_success(const exao_engine* engine) noexcept {
+  t_last.engine = engine;
+  t_last.message.clear();
 }
 
 // The C boundary: no C++ exception may reach a C caller. The C++ API throws none; this catches
@@ -71,7 +89,9 @@ exao_status record(const exao_engine* engine, StatusCode code, const char* messa
 template <class Body>
 exao_status c_boundary(const exao_engine* engine, Body&& body) noexcept {
   try {
-    return body();
+    const exao_status status = body();
+    if (status == EXAO_OK && engine) record_success(engine);
+    return status;
   } catch (const std::bad_alloc&) {
     return engine ? record(engine, StatusCode::OutOfMemory, "out of memory") : EXAO_OUT_OF_MEMORY;
   } catch (...) {
@@ -82,7 +102,9 @@ exao_status c_boundary(const exao_engine* engine, Body&& body) noexcept {
 exao::api::Options to_cpp(const exao_options* o) {
   exao::api::Options out;
   if (!o) return out;
-  if (o->radius != 0.0f) out.radius = o->radius;  // negative or NaN stay, and are refused
+  // A negative radius is the C spelling of C++'s nullopt (the default); 0 and NaN stay, and are
+  // refused as C++ refuses them.
+  if (!(o->radius < 0.0f)) out.radius = o->radius;
   out.samples = o->samples;
   out.falloff = static_cast<exao::api::Falloff>(o->falloff);
   out.pattern_seed = o->pattern_seed;
@@ -148,7 +170,7 @@ extern "C" {
 
 const char* exao_status_string(exao_status status) {
   const int s = static_cast<int>(status);
-  if (s < EXAO_OK || s > EXAO_INTERNAL_ERROR) return "unknown status";
+  if (s < EXAO_OK || s > EXAO_CALLBACK_ERROR) return "unknown status";
   return exao::api::status_text(static_cast<StatusCode>(s));
 }
 
@@ -157,7 +179,7 @@ const char* exao_version(void) { return exao::api::version(); }
 void exao_options_init(exao_options* options) {
   if (!options) return;
   const exao::api::Options d;
-  options->radius = 0.0f;
+  options->radius = -1.0f;
   options->samples = d.samples;
   options->falloff = static_cast<exao_falloff>(d.falloff);
   options->pattern_seed = d.pattern_seed;
@@ -207,7 +229,35 @@ exao_status exao_engine_open(const char* name_or_path, const exao_options* optio
   return finish_create(Engine::open(name_or_path, to_cpp(options)), engine, error_buffer, error_buffer_size);
 }
 
-void exao_engine_destroy(exao_engine* engine) { delete engine; }
+exao_status exao_engine_with_settings(const exao_engine* engine, float radius, float origin_offset, int samples,
+                                      exao_engine** derived, char* error_buffer, size_t error_buffer_size) {
+  if (!derived) {
+    copy_message("derived: null", error_buffer, error_buffer_size);
+    return EXAO_INVALID_ARGUMENT;
+  }
+  *derived = nullptr;
+  if (!engine) {
+    copy_message("engine: null", error_buffer, error_buffer_size);
+    return EXAO_INVALID_ARGUMENT;
+  }
+  try {
+    exao::api::QuerySettings settings;
+    // Negative (and 0 samples) are C's spelling of "the engine's own", as in exao_options.
+    if (!(radius < 0.0f)) settings.radius = radius;
+    if (!(origin_offset < 0.0f)) settings.origin_offset = origin_offset;
+    if (samples != 0) settings.samples = samples;
+    return finish_create(engine->engine.with_settings(settings), derived, error_buffer, error_buffer_size);
+  } catch (...) {
+    copy_message("out of memory", error_buffer, error_buffer_size);
+    return EXAO_OUT_OF_MEMORY;
+  }
+}
+
+void exao_engine_destroy(exao_engine* engine) {
+  // A later engine at the same address must not inherit this thread's message.
+  if (engine && t_last.engine == engine) record_success(nullptr);
+  delete engine;
+}
 
 exao_status exao_engine_get_info(const exao_engine* engine, exao_engine_info* info) {
   if (!engine || !info) return EXAO_INVALID_ARGUMENT;
@@ -223,6 +273,7 @@ exao_status exao_engine_get_info(const exao_engine* engine, exao_engine_info* in
   info->triangles = i.triangles;
   info->two_sided_triangles = i.two_sided_triangles;
   info->zero_area_skipped = i.zero_area_skipped;
+  info->beyond_limit_skipped = i.beyond_limit_skipped;
   info->bounds_lo[0] = i.bounds_lo.x;
   info->bounds_lo[1] = i.bounds_lo.y;
   info->bounds_lo[2] = i.bounds_lo.z;
@@ -242,8 +293,8 @@ size_t exao_engine_last_error(const exao_engine* engine, char* buffer, size_t bu
     copy_message("", buffer, buffer_size);
     return 0;
   }
-  const std::lock_guard lock(engine->mutex);
-  return copy_message(engine->last_error, buffer, buffer_size);
+  static const std::string kNone;
+  return copy_message(t_last.engine == engine ? t_last.message : kNone, buffer, buffer_size);
 }
 
 exao_status exao_ao(const exao_engine* engine, const float position[3], const float normal[3], uint64_t key, float* ao) {
@@ -304,6 +355,23 @@ exao_status exao_ao_batch(const exao_engine* engine, const exao_receiver* receiv
     std::optional<std::vector<exao::api::Receiver>> converted = convert(receivers, count);
     if (!converted) return record(engine, StatusCode::OutOfMemory, "out of memory");
     const exao::api::Status ok = engine->engine.ao(*converted, std::span<float>(ao, count));
+    return ok ? EXAO_OK : record(engine, ok.error());
+  });
+}
+
+exao_status exao_ao_batch_statuses(const exao_engine* engine, const exao_receiver* receivers, size_t count, float* ao,
+                                   exao_status* statuses) {
+  return c_boundary(engine, [&]() -> exao_status {
+    if (!engine) return EXAO_INVALID_ARGUMENT;
+    if (count == 0) return EXAO_OK;
+    if (!receivers || !ao || !statuses) return record(engine, StatusCode::InvalidArgument, "receivers, ao or statuses: null");
+    std::optional<std::vector<exao::api::Receiver>> converted = convert(receivers, count);
+    if (!converted) return record(engine, StatusCode::OutOfMemory, "out of memory");
+    std::vector<StatusCode> codes(count, StatusCode::Ok);
+    exao::api::BatchOptions batch;
+    batch.statuses = codes;
+    const exao::api::Status ok = engine->engine.ao(*converted, std::span<float>(ao, count), batch);
+    for (std::size_t i = 0; i < count; ++i) statuses[i] = to_c(codes[i]);
     return ok ? EXAO_OK : record(engine, ok.error());
   });
 }

@@ -6,10 +6,13 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cfloat>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -69,6 +72,8 @@ constexpr std::array<std::pair<std::string_view, std::string_view>, 12> kOptionN
     }
     return invalid("options." + std::string(name) + error.message.substr(option->size()));
   }
+  // The environment's EXAO_ISA is the caller's input too (core/isa.h).
+  if (error.message.starts_with("EXAO_ISA:")) return invalid(error.message);
   return detail::make_error(code, error.message);
 }
 
@@ -95,6 +100,12 @@ constexpr std::array<std::pair<std::string_view, std::string_view>, 12> kOptionN
 }
 
 [[nodiscard]] std::optional<Error> check_options(const Options& options) {
+  // The public numbering of backends is not the engine's: checked here, so that the error gives
+  // the value the caller passed.
+  const int backend = static_cast<int>(options.backend);
+  if (backend < 0 || backend > static_cast<int>(Backend::Raster)) {
+    return invalid("options.backend: not a backend (0 bvh, 1 brute, 2 embree, 3 raster), got " + std::to_string(backend));
+  }
   const engine::Options o = to_engine(options);
   if (auto ok = engine::check_options(o); !ok) return from_engine(ok.error(), StatusCode::InvalidArgument);
   if (auto ok = engine::check_serves(o, engine::Receivers::Points); !ok) return from_engine(ok.error(), StatusCode::InvalidArgument);
@@ -186,9 +197,25 @@ constexpr std::array<std::pair<std::string_view, std::string_view>, 12> kOptionN
 
 // --- Build --------------------------------------------------------------------------------------
 
+// Why no triangle is left, from what the scene's report says was dropped.
+[[nodiscard]] std::string nothing_left(const Scene& scene) {
+  const LoadReport& report = scene.report;
+  std::string why;
+  if (report.non_finite_skipped > 0) {
+    why += std::to_string(report.non_finite_skipped) + " with a vertex beyond +-1e17 (Embree's limit) or not finite";
+  }
+  if (report.zero_area_skipped > 0) {
+    why += (why.empty() ? "" : ", ") + std::to_string(report.zero_area_skipped) + " of zero area";
+  }
+  if (why.empty()) return "the scene has no triangle";
+  return "no triangle left of the " + std::to_string(report.non_finite_skipped + report.zero_area_skipped +
+                                                     scene.triangle_count()) +
+         " given: " + why + " (they block no ray)";
+}
+
 [[nodiscard]] Result<std::unique_ptr<Engine::Impl>> build_impl(const Scene& scene, const Options& options,
-                                                                std::size_t zero_area_skipped) {
-  if (scene.triangle_count() == 0) return invalid("the scene has no triangle of non-zero area");
+                                                                StatusCode empty_code) {
+  if (scene.triangle_count() == 0) return detail::make_error(empty_code, nothing_left(scene));
   Result<engine::Engine> built = [&]() -> Result<engine::Engine> {
     exao::Result<engine::Engine> e = engine::Engine::build(scene, to_engine(options), engine::Receivers::Points);
     if (!e) return from_engine(e.error(), StatusCode::BackendError);
@@ -209,12 +236,13 @@ constexpr std::array<std::pair<std::string_view, std::string_view>, 12> kOptionN
   info.threads = e.threads();
   info.triangles = e.geometry().triangle_count();
   info.two_sided_triangles = e.geometry().two_sided_count();
-  info.zero_area_skipped = zero_area_skipped;
+  info.zero_area_skipped = scene.report.zero_area_skipped;
+  info.beyond_limit_skipped = scene.report.non_finite_skipped;
   info.bounds_lo = {bounds.lo.x, bounds.lo.y, bounds.lo.z};
   info.bounds_hi = {bounds.hi.x, bounds.hi.y, bounds.hi.z};
   info.table_resolution = e.mask_engine() ? e.mask_engine()->table_resolution() : 0;
   info.table_bytes = e.mask_engine() ? e.mask_engine()->table_bytes() : 0;
-  info.simd = simd_name();
+  info.simd = e.mask_engine() ? isa_name(e.mask_engine()->isa()) : "none";
   return impl;
 }
 
@@ -236,34 +264,112 @@ void fill_rays(const Engine::Impl& impl, const exao::Receiver& receiver, Vec3* o
   return n;
 }
 
+// Thrown through the engine's workers by the progress wrapper to stop a batch (TBB carries it
+// to the caller's thread); the reason is in the BatchStop it points to.
+struct StopBatch {};
+
+// Why a batch stopped early, shared by the workers: the first reason wins.
+struct BatchStop {
+  std::atomic<int> reason{0};  // 0 running, 1 cancelled, 2 the callback threw
+  std::mutex mutex;
+  std::string thrown;          // the callback's what(), under mutex
+  std::size_t done = 0, total = 0;
+
+  [[noreturn]] void stop(int why, std::string message, std::size_t at, std::size_t of) {
+    int running = 0;
+    if (reason.compare_exchange_strong(running, why)) {
+      const std::lock_guard lock(mutex);
+      thrown = std::move(message);
+      done = at;
+      total = of;
+    }
+    throw StopBatch{};
+  }
+};
+
 // A batch into `words` (count * mask_words) and/or `ao` (count), either may be empty.
 [[nodiscard]] Status run_batch(const Engine::Impl* impl, std::span<const Receiver> receivers, std::span<std::uint64_t> words,
                                std::span<float> ao, const BatchOptions& batch) {
   if (!impl) return invalid("engine: empty (moved from)");
-  for (std::size_t i = 0; i < receivers.size(); ++i) {
-    if (const char* problem = receiver_problem(receivers[i])) {
-      return invalid("receivers[" + std::to_string(i) + "]: " + problem);
-    }
+  if (!batch.statuses.empty() && batch.statuses.size() != receivers.size()) {
+    return invalid("batch.statuses: must hold 0 entries or one per receiver (" + std::to_string(receivers.size()) +
+                   "), holds " + std::to_string(batch.statuses.size()));
   }
-  if (receivers.empty()) return {};
-  std::vector<exao::Receiver> internal(receivers.size());
-  for (std::size_t i = 0; i < receivers.size(); ++i) internal[i] = to_internal(receivers[i]);
+  // Bad receivers are set aside (AO NaN, mask zero, their status); the others are computed.
+  const std::size_t per = impl->info.mask_words;
+  std::vector<std::uint32_t> good;
+  good.reserve(receivers.size());
+  std::size_t bad = 0;
+  std::string first_bad;
+  for (std::size_t i = 0; i < receivers.size(); ++i) {
+    const char* problem = receiver_problem(receivers[i]);
+    if (!batch.statuses.empty()) batch.statuses[i] = problem ? StatusCode::InvalidArgument : StatusCode::Ok;
+    if (!problem) {
+      good.push_back(static_cast<std::uint32_t>(i));
+      continue;
+    }
+    if (bad++ == 0) first_bad = "receivers[" + std::to_string(i) + "]: " + problem;
+    if (!ao.empty()) ao[i] = std::numeric_limits<float>::quiet_NaN();
+    if (!words.empty()) std::fill_n(words.begin() + static_cast<std::ptrdiff_t>(i * per), per, std::uint64_t{0});
+  }
+  const auto bad_batch = [&]() -> Status {
+    if (bad == 0) return {};
+    return invalid(first_bad + " (" + std::to_string(bad) + " of " + std::to_string(receivers.size()) +
+                   " receivers are bad: their AO is NaN; the others were computed)");
+  };
+  if (good.empty()) return bad_batch();
+  // The good receivers, compacted; results go to scratch arrays when some were set aside.
+  const bool compact = good.size() != receivers.size();
+  std::vector<exao::Receiver> internal(good.size());
+  for (std::size_t k = 0; k < good.size(); ++k) internal[k] = to_internal(receivers[good[k]]);
+  std::vector<float> ao_scratch(compact && !ao.empty() ? good.size() : 0);
+  std::vector<std::uint64_t> words_scratch(compact && !words.empty() ? good.size() * per : 0);
   engine::Stats stats;
   engine::RunOptions run;
-  run.progress = batch.progress;
+  BatchStop stop;
+  if (batch.progress) {
+    run.progress = [&](std::size_t done, std::size_t total) {
+      if (stop.reason.load(std::memory_order_relaxed) != 0) throw StopBatch{};
+      // The caller counts its own receivers, the bad ones done from the start.
+      const std::size_t at = done + bad, of = total + bad;
+      bool go = true;
+      try {
+        go = batch.progress(at, of);
+      } catch (const std::exception& e) {
+        stop.stop(2, e.what(), at, of);
+      } catch (...) {
+        stop.stop(2, "an exception that is not a std::exception", at, of);
+      }
+      if (!go) stop.stop(1, {}, at, of);
+    };
+  }
   if (batch.stats) run.stats = &stats;
   if (batch.embree_rays) run.embree_rays = static_cast<exao::EmbreeRays>(static_cast<int>(*batch.embree_rays));
   engine::Outputs outputs;
-  outputs.ao = ao;
-  outputs.masks = words;
-  if (auto ok = impl->engine.run(internal, outputs, run); !ok) return from_engine(ok.error(), StatusCode::InternalError);
+  outputs.ao = compact && !ao.empty() ? std::span<float>(ao_scratch) : ao;
+  outputs.masks = compact && !words.empty() ? std::span<std::uint64_t>(words_scratch) : words;
+  try {
+    if (auto ok = impl->engine.run(internal, outputs, run); !ok) return from_engine(ok.error(), StatusCode::InternalError);
+  } catch (const StopBatch&) {
+    const std::lock_guard lock(stop.mutex);
+    const std::string where = " at " + std::to_string(stop.done) + " of " + std::to_string(stop.total) + " receivers";
+    if (stop.reason.load() == 1) return detail::make_error(StatusCode::Cancelled, "batch.progress: returned false" + where);
+    return detail::make_error(StatusCode::CallbackError, "batch.progress: threw" + where + ": " + stop.thrown);
+  }
+  if (compact) {
+    for (std::size_t k = 0; k < good.size(); ++k) {
+      const std::size_t i = good[k];
+      if (!ao.empty()) ao[i] = ao_scratch[k];
+      if (!words.empty()) std::copy_n(words_scratch.begin() + static_cast<std::ptrdiff_t>(k * per), per, words.begin() + static_cast<std::ptrdiff_t>(i * per));
+    }
+  }
   if (batch.stats) {
     batch.stats->receivers += stats.traversal.receivers;
     batch.stats->nodes_visited += stats.traversal.nodes_visited;
     batch.stats->triangles_tested += stats.traversal.triangles_tested;
     batch.stats->triangles_blocking += stats.traversal.triangles_blocking;
   }
-  return {};
+  return bad_batch();
 }
 
 }  // namespace
@@ -285,7 +391,7 @@ Result<Engine> Engine::build(std::span<const Mesh> meshes, const Options& option
     for (std::size_t k = 0; k < meshes.size(); ++k) {
       if (std::optional<Error> bad = add_mesh(scene, meshes[k], k)) return std::move(*bad);
     }
-    Result<std::unique_ptr<Impl>> impl = build_impl(scene, options, scene.report.zero_area_skipped);
+    Result<std::unique_ptr<Impl>> impl = build_impl(scene, options, StatusCode::InvalidArgument);
     if (!impl) return impl.error();
     return Engine(std::move(*impl));
   });
@@ -297,9 +403,36 @@ Result<Engine> Engine::open(std::string_view name_or_path, const Options& option
     if (name_or_path.empty()) return invalid("name_or_path: empty");
     exao::Result<Scene> scene = open_scene(std::string(name_or_path));
     if (!scene) return detail::from_internal(StatusCode::FileError, scene.error());
-    Result<std::unique_ptr<Impl>> impl = build_impl(*scene, options, 0);
+    Result<std::unique_ptr<Impl>> impl = build_impl(*scene, options, StatusCode::FileError);
     if (!impl) return impl.error();
     return Engine(std::move(*impl));
+  });
+}
+
+Result<Engine> Engine::with_settings(const QuerySettings& settings) const noexcept {
+  return guard<Result<Engine>>([&]() -> Result<Engine> {
+    if (!impl_) return invalid("engine: empty (moved from)");
+    engine::Options options = impl_->engine.options();
+    if (settings.radius) options.radius = engine::Length{*settings.radius, false};
+    if (settings.origin_offset) options.origin_offset = settings.origin_offset;
+    if (settings.samples) options.samples = *settings.samples;
+    exao::Result<engine::Engine> e =
+        engine::Engine::build(impl_->engine.shared_geometry(), options, engine::Receivers::Points);
+    if (!e) {
+      Error error = from_engine(e.error(), StatusCode::InternalError);
+      // The library names its options; here they are the settings'.
+      if (error.message.starts_with("options.")) error.message.replace(0, 7, "settings");
+      return error;
+    }
+    auto impl = std::make_unique<Impl>(Impl{std::move(*e), impl_->info});
+    EngineInfo& info = impl->info;
+    info.samples = impl->engine.samples();
+    info.mask_words = impl->engine.mask_words();
+    info.radius = impl->engine.radius();
+    info.origin_offset = impl->engine.origin_offset();
+    info.table_resolution = impl->engine.mask_engine() ? impl->engine.mask_engine()->table_resolution() : 0;
+    info.table_bytes = impl->engine.mask_engine() ? impl->engine.mask_engine()->table_bytes() : 0;
+    return Engine(std::move(impl));
   });
 }
 

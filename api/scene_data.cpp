@@ -28,6 +28,8 @@ const char* status_text(StatusCode code) noexcept {
     case StatusCode::FileError: return "file error";
     case StatusCode::BackendError: return "backend error";
     case StatusCode::InternalError: return "internal error";
+    case StatusCode::Cancelled: return "cancelled";
+    case StatusCode::CallbackError: return "callback error";
   }
   return "unknown status";
 }

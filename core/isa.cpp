@@ -82,6 +82,21 @@ std::span<const Isa> supported_isas() {
   return levels;
 }
 
+Result<std::optional<Isa>> environment_isa() {
+  const char* env = std::getenv("EXAO_ISA");
+  if (!env || !*env) return std::optional<Isa>{};
+  const Result<std::optional<Isa>> parsed = parse_isa(env);
+  if (!parsed) {
+    return fail(std::string("EXAO_ISA: '") + env +
+                "' is not an instruction set (scalar, sse2, sse4, avx2, avx512 or auto)");
+  }
+  if (*parsed && !isa_supported(**parsed)) {
+    return fail(std::string("EXAO_ISA: this CPU does not run ") + env + " (it runs up to " +
+                isa_name(supported_isas().back()) + ")");
+  }
+  return *parsed;
+}
+
 Isa default_isa() {
   static const Isa chosen = [] {
 #if defined(EXAO_FORCE_SCALAR)
@@ -89,25 +104,19 @@ Isa default_isa() {
 #else
     const Isa best = supported_isas().back();
 #endif
-    const char* env = std::getenv("EXAO_ISA");
-    if (!env || !*env) return best;
-    const Result<std::optional<Isa>> parsed = parse_isa(env);
-    if (!parsed) {
-      std::fprintf(stderr, "exao: EXAO_ISA=%s is not an instruction set; using %s\n", env, isa_name(best));
-      return best;
-    }
-    if (!*parsed) return best;
-    if (!isa_supported(**parsed)) {
-      std::fprintf(stderr, "exao: EXAO_ISA=%s: this CPU does not run it; using %s\n", env, isa_name(best));
-      return best;
-    }
-    return **parsed;
+    // A bad EXAO_ISA is refused by resolve_isa, where an engine is built; here, silently, the
+    // best level (the library never prints).
+    const Result<std::optional<Isa>> env = environment_isa();
+    return env && *env ? **env : best;
   }();
   return chosen;
 }
 
 Result<Isa> resolve_isa(std::optional<Isa> requested) {
-  if (!requested) return default_isa();
+  if (!requested) {
+    if (auto env = environment_isa(); !env) return std::unexpected(env.error());
+    return default_isa();
+  }
   if (!isa_supported(*requested)) {
     return fail(std::string("isa: this CPU does not run ") + isa_name(*requested) + " (it runs up to " +
                 isa_name(supported_isas().back()) + ")");

@@ -36,12 +36,17 @@ enum class Isa { Scalar, Sse2, Sse4, Avx2, Avx512 };
 /// Every level this CPU runs, from scalar up: the levels the equality tests cover.
 [[nodiscard]] std::span<const Isa> supported_isas();
 
-/// The level an engine uses when its options leave it open: the environment variable EXAO_ISA
-/// when it names a level this CPU runs (else the best one, with a warning on stderr once), or
-/// the best level this CPU runs.
+/// What the environment variable EXAO_ISA asks for: nullopt when it is unset, empty or "auto";
+/// an error starting "EXAO_ISA: " and giving the value when it names no level, or one this CPU
+/// does not run.
+[[nodiscard]] Result<std::optional<Isa>> environment_isa();
+
+/// The level an engine uses when its options leave it open: EXAO_ISA when it names a level this
+/// CPU runs, else the best level this CPU runs. Never prints: resolve_isa refuses a bad EXAO_ISA.
 [[nodiscard]] Isa default_isa();
 
-/// `requested` if the CPU runs it, else an error naming the option `isa`; nullopt: default_isa().
+/// `requested` if the CPU runs it, else an error naming the option `isa`; nullopt: default_isa(),
+/// or environment_isa()'s error when EXAO_ISA is set to something this CPU cannot run.
 [[nodiscard]] Result<Isa> resolve_isa(std::optional<Isa> requested);
 
 }  // namespace exao

@@ -1,6 +1,9 @@
 #include "engine/engine.h"
 
 #include <algorithm>
+#include <array>
+#include <cmath>
+#include <mutex>
 #include <string>
 
 #include <tbb/task_arena.h>
@@ -26,6 +29,77 @@ struct Engine::Impl {
   // Auto's cost model, one per thread, learnt across calls (bvh/hybrid.h).
   std::unique_ptr<bvh::HybridControllers> hybrid = std::make_unique<bvh::HybridControllers>();
 
+  // Radii far beyond the scene (issue 22). The masks work in units of r, so at r = 1e16 a
+  // room's coordinates are ~1e-15 there, their products ~1e-30 and their squares underflow:
+  // triangles were dropped (the edge normals' 1e-30 degeneracy test, then FTZ) and AO came out
+  // 1 where Embree says 0. But no segment from p' reaches geometry beyond `reach`, the distance
+  // from p' to the farthest corner of the occluders' box, so a segment of length L >= reach hits
+  // exactly what one of any other length >= reach hits. Hence for receivers within `reach` of
+  // everything, with r' >= reach, the rays (w_i, l_i r) and (w_i, l'_i r') with
+  //     l'_i = min(1, l_i r / r')
+  // hit the same triangles: a ray longer than r' becomes one of length r' >= reach, a shorter
+  // one keeps its world length l_i r. Whatever the falloff, the masks are computed at r' instead
+  // of r whenever r' < r, and the scene stays about unit size in the kernels' units, as at any
+  // radius near the scene's size. r' is a power of two at or above reach (reach() rounds up by
+  // 1e-4, far above the float rounding of l'_i r'), and at least the one above twice the
+  // occluders' diagonal: so every receiver within a diagonal of the scene gets the same r', and
+  // a batch, a single query and the raster pixels of the same receivers give the same bits (a
+  // batch with receivers farther out uses the r' of its farthest). Each engine is built once,
+  // on first use (the rays' pattern with the new lengths, the same mode, table resolution and
+  // instruction set).
+  glm::dvec3 occluder_lo{0.0}, occluder_hi{0.0};
+  int base_exponent = 0;  // 2^base_exponent >= twice the occluders' diagonal
+  struct ClampedMasks {
+    std::once_flag once;
+    std::optional<lut::MaskEngine> engine;
+  };
+  static constexpr int kMinExponent = -160;  // below any float: 2^-149 is the smallest
+  mutable std::array<ClampedMasks, 320> clamped;  // by exponent - kMinExponent
+
+  // The distance from p' (within origin_offset of the receiver's position) to the farthest
+  // corner of the occluders' box, rounded up.
+  [[nodiscard]] double reach(const Receiver& receiver) const {
+    const glm::dvec3 p(receiver.position);
+    const glm::dvec3 far = glm::max(glm::abs(p - occluder_lo), glm::abs(p - occluder_hi));
+    return (glm::length(far) + static_cast<double>(rays.origin_offset)) * (1.0 + 1e-4);
+  }
+
+  // The mask engine for receivers at most `reach` from every occluder: the engine at r, or the
+  // one at r' above when r' < r.
+  [[nodiscard]] const lut::MaskEngine& masks_for(double reach) const {
+    int exponent = 0;
+    (void)std::frexp(reach, &exponent);  // reach < 2^exponent
+    exponent = std::max(exponent, base_exponent);
+    if (!(reach > 0.0) || exponent >= kMinExponent + static_cast<int>(clamped.size()) ||
+        std::ldexp(1.0, exponent) >= static_cast<double>(rays.radius)) {
+      return *masks;
+    }
+    exponent = std::max(exponent, kMinExponent);
+    ClampedMasks& slot = clamped[static_cast<std::size_t>(exponent - kMinExponent)];
+    std::call_once(slot.once, [&] {
+      const double shorter_radius = std::ldexp(1.0, exponent);
+      const double scale = static_cast<double>(rays.radius) / shorter_radius;  // > 1
+      ShadowRays shorter = rays;
+      shorter.radius = static_cast<float>(shorter_radius);
+      SamplePattern& pattern = shorter.pattern;
+      for (std::size_t i = 0; i < pattern.lengths.size(); ++i) {
+        pattern.lengths[i] = static_cast<float>(std::min(1.0, static_cast<double>(pattern.lengths[i]) * scale));
+        pattern.points[i] = pattern.directions[i] * pattern.lengths[i];
+      }
+      // Cannot fail: the same N, mode, table resolution and level as *masks, a valid radius.
+      Result<lut::MaskEngine> engine =
+          lut::MaskEngine::build(shorter, masks->mode(), masks->table_resolution(), masks->isa());
+      EXAO_CHECK(engine.has_value());
+      slot.engine = std::move(*engine);
+    });
+    return *slot.engine;
+  }
+  [[nodiscard]] const lut::MaskEngine& masks_for(std::span<const Receiver> receivers) const {
+    double farthest = 0.0;
+    for (const Receiver& receiver : receivers) farthest = std::max(farthest, reach(receiver));
+    return masks_for(farthest);
+  }
+
   // The masks of consecutive receivers by the method's backend, in their order.
   [[nodiscard]] MaskSet backend_masks(std::span<const Receiver> receivers, const ProgressCallback& progress,
                                       const RunOptions& run) const {
@@ -35,12 +109,16 @@ struct Engine::Impl {
         if (run.embree_rays) embree.rays = *run.embree_rays;
         return geometry->embree()->occlusion(rays, receivers, embree, progress);
       }
-      case Method::Brute: return lut::brute_occlusion(*masks, *geometry->triangles(), receivers, progress);
+      case Method::Brute:
+        return lut::brute_occlusion(masks_for(receivers), *geometry->triangles(), receivers, progress);
       case Method::Bvh:
-        return bvh::occlusion(*geometry->bvh(), *masks, receivers, progress, run.stats ? &run.stats->traversal : nullptr);
+        return bvh::occlusion(*geometry->bvh(), masks_for(receivers), receivers, progress,
+                              run.stats ? &run.stats->traversal : nullptr);
       case Method::Auto:
-        return bvh::hybrid_occlusion(*geometry->bvh(), *masks, *geometry->embree(), receivers, options.hybrid, *hybrid,
-                                     progress, run.stats ? &run.stats->traversal : nullptr);
+        // Embree casts the rays of the same engine (at r' when r is beyond the scene's reach):
+        // they hit what the caller's rays hit.
+        return bvh::hybrid_occlusion(*geometry->bvh(), masks_for(receivers), *geometry->embree(), receivers,
+                                     options.hybrid, *hybrid, progress, run.stats ? &run.stats->traversal : nullptr);
       case Method::Raster: break;  // no receivers of its own choosing: refused by check_serves
     }
     EXAO_CHECK(options.method != Method::Raster);
@@ -146,6 +224,10 @@ Result<Engine> Engine::build(std::shared_ptr<const Geometry> geometry, const Opt
     }
     impl->masks = std::move(*masks);
   });
+  const Bounds& occluders = impl->geometry->occluder_bounds();
+  impl->occluder_lo = glm::dvec3(occluders.lo);
+  impl->occluder_hi = glm::dvec3(occluders.hi);
+  (void)std::frexp(2.0 * glm::length(impl->occluder_hi - impl->occluder_lo) * (1.0 + 1e-4), &impl->base_exponent);
   if (!built) return std::unexpected(built.error());
   return Engine(std::move(impl));
 }
@@ -154,6 +236,7 @@ const Options& Engine::options() const { return impl_->options; }
 const ShadowRays& Engine::rays() const { return impl_->rays; }
 const lut::MaskEngine* Engine::mask_engine() const { return impl_->masks ? &*impl_->masks : nullptr; }
 const Geometry& Engine::geometry() const { return *impl_->geometry; }
+std::shared_ptr<const Geometry> Engine::shared_geometry() const { return impl_->geometry; }
 int Engine::threads() const { return impl_->arena->max_concurrency(); }
 
 Result<void> Engine::run(std::span<const Receiver> receivers, const Outputs& outputs, const RunOptions& run) const {
@@ -246,8 +329,9 @@ void Engine::mask_one(const Receiver& receiver, std::span<std::uint64_t> words) 
     return;
   }
   const Frame frame = impl.rays.frame(receiver);
+  const lut::MaskEngine& engine = impl.masks_for(impl.reach(receiver));
   if (impl.options.method == Method::Auto) {
-    bvh::hybrid_mask_one(*impl.geometry->bvh(), *impl.masks, *impl.geometry->embree(), frame, impl.options.hybrid,
+    bvh::hybrid_mask_one(*impl.geometry->bvh(), engine, *impl.geometry->embree(), frame, impl.options.hybrid,
                          *impl.hybrid, words);
     return;
   }
@@ -256,13 +340,13 @@ void Engine::mask_one(const Receiver& receiver, std::span<std::uint64_t> words) 
     const lut::FlushDenormals flush;  // the same float mode on every thread (lut/float_mode.h)
     Mask<Bits> mask;
     if (impl.options.method == Method::Bvh) {
-      mask = bvh::traverse<Bits, false>(*impl.geometry->bvh(), *impl.masks, frame, nullptr);
+      mask = bvh::traverse<Bits, false>(*impl.geometry->bvh(), engine, frame, nullptr);
     } else {
       // brute's definition, without the grid a batch builds: every triangle.
       const lut::TriangleSet& triangles = *impl.geometry->triangles();
-      const Mask<Bits> all = impl.masks->all_rays<Bits>();
+      const Mask<Bits> all = engine.all_rays<Bits>();
       for (std::uint32_t t = 0; t < triangles.size(); ++t) {
-        mask |= impl.masks->triangle_mask<Bits>(triangles, t, frame);
+        mask |= engine.triangle_mask<Bits>(triangles, t, frame);
         if (mask == all) break;  // nothing left to block
       }
     }
@@ -300,7 +384,8 @@ Result<MaskSet> Engine::pixel_masks(const PixelReceivers& pixels, const Camera& 
   }
   raster::RasterResult result;
   impl.arena->execute([&] {
-    result = raster::occlusion(pixels, *impl.geometry->scene(), *triangles, *impl.masks, camera, options, run.progress);
+    result = raster::occlusion(pixels, *impl.geometry->scene(), *triangles, impl.masks_for(pixels.receivers), camera,
+                               options, run.progress);
   });
   if (run.stats) run.stats->raster += result.stats;
   return std::move(result.masks);

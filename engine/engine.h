@@ -127,6 +127,8 @@ class Engine {
   /// The mask engine (nullptr for embree, which casts rays).
   [[nodiscard]] const lut::MaskEngine* mask_engine() const;
   [[nodiscard]] const Geometry& geometry() const;
+  /// The same geometry, shared: for an engine of other settings over it (build above).
+  [[nodiscard]] std::shared_ptr<const Geometry> shared_geometry() const;
   /// Worker threads of the engine's arena.
   [[nodiscard]] int threads() const;
 

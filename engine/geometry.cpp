@@ -40,6 +40,7 @@ Result<std::shared_ptr<const Geometry>> Geometry::build(const Scene& scene, std:
     source = &*geometry->scene_;
   }
   geometry->bounds_ = source->bounds();
+  for (const glm::vec3& v : source->vertices) geometry->occluder_bounds_.extend(v);
   geometry->triangle_count_ = source->triangle_count();
   geometry->two_sided_count_ = exao::two_sided_count(*source);
   geometry->sidedness_ = options.sidedness;

@@ -39,6 +39,9 @@ class Geometry {
   /// The scene as the backends see it (sidedness applied); kept only for raster and pixels.
   [[nodiscard]] const Scene* scene() const { return scene_ ? &*scene_ : nullptr; }
   [[nodiscard]] const Bounds& bounds() const { return bounds_; }
+  /// The box of every vertex an occluder has, the ground plane's too (bounds() leaves it out):
+  /// no segment from p' reaches geometry farther than the farthest corner of this box.
+  [[nodiscard]] const Bounds& occluder_bounds() const { return occluder_bounds_; }
   [[nodiscard]] std::size_t triangle_count() const { return triangle_count_; }
   [[nodiscard]] std::size_t two_sided_count() const { return two_sided_count_; }
   [[nodiscard]] Sidedness sidedness() const { return sidedness_; }
@@ -55,6 +58,7 @@ class Geometry {
   std::unique_ptr<bvh::Bvh> bvh_;
   std::optional<Scene> scene_;
   Bounds bounds_;
+  Bounds occluder_bounds_;
   std::size_t triangle_count_ = 0;
   std::size_t two_sided_count_ = 0;
   Sidedness sidedness_ = Sidedness::Auto;

@@ -10,6 +10,10 @@
 // and libpng.
 //
 //     exao_renderer [-o renderer.png] [-W 960] [-H 540] [--spp 4] [--samples 64] [--radius 1]
+//                   [--object-radius 0.4]
+//
+// --radius is the AO distance of the room's floor, walls and ceiling, --object-radius that of
+// the objects in it (a per-material AO distance: one engine, and one derived from it).
 
 #include <embree3/rtcore.h>
 #include <png.h>
@@ -150,6 +154,9 @@ struct Renderer {
   const Geometry& g;
   const Tracer& tracer;
   const exao::api::Engine& ao;
+  // Per-material AO distance: the room's objects take a shorter AO radius than its walls, from an
+  // engine derived with Engine::with_settings (the scene is shared, not rebuilt).
+  const exao::api::Engine& object_ao;
   int width = 960, height = 540, spp = 4, bounces = 2;
   Vec3 light{0.2f, 3.6f, 0.4f};  // a point light under the ceiling
   float light_power = 9.0f;
@@ -163,6 +170,11 @@ struct Renderer {
   Vec3 face_normal(unsigned t) const {
     const Vec3 a = vertex(t, 0);
     return normalize(cross(vertex(t, 1) - a, vertex(t, 2) - a));
+  }
+
+  // Whether a point is on the room's shell (floor, ceiling, walls) rather than an object in it.
+  static bool on_shell(Vec3 p, Vec3 n) {
+    return (p.y < 0.001f && n.y > 0.9f) || p.y > 3.999f || std::abs(p.x) > 4.999f || std::abs(p.z) > 3.999f;
   }
 
   // Diffuse colour by where a point is: floor, ceiling, walls, and the room's objects.
@@ -225,7 +237,7 @@ struct Renderer {
       direct = light_power * cosine / (4.0f * 3.1415927f * distance2) * 3.1415927f;
     }
     // --- exao: the AO at this shading point, in one call (any thread, any point). ---
-    const exao::api::Result<float> occlusion = ao.ao(p, n, key);
+    const exao::api::Result<float> occlusion = (on_shell(p, n) ? ao : object_ao).ao(p, n, key);
     if (!occlusion) ++ao_failures;
     const float open = occlusion.value_or(1.0f);
     Vec3 light_in = {direct + ambient * open, direct + ambient * open, direct + ambient * open};
@@ -296,7 +308,7 @@ std::uint8_t to_srgb8(float linear) {
 int main(int argc, char** argv) {
   std::string output = "renderer.png";
   int width = 960, height = 540, spp = 4, samples = 64;
-  float radius = 1.0f;
+  float radius = 1.0f, object_radius = 0.4f;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string flag = argv[i], value = argv[i + 1];
     if (flag == "-o") output = value;
@@ -305,8 +317,11 @@ int main(int argc, char** argv) {
     else if (flag == "--spp") spp = std::atoi(value.c_str());
     else if (flag == "--samples") samples = std::atoi(value.c_str());
     else if (flag == "--radius") radius = std::strtof(value.c_str(), nullptr);
+    else if (flag == "--object-radius") object_radius = std::strtof(value.c_str(), nullptr);
     else {
-      std::fprintf(stderr, "usage: exao_renderer [-o out.png] [-W 960] [-H 540] [--spp 4] [--samples 64] [--radius 1]\n");
+      std::fprintf(stderr,
+                   "usage: exao_renderer [-o out.png] [-W 960] [-H 540] [--spp 4] [--samples 64] [--radius 1] "
+                   "[--object-radius 0.4]\n");
       return 2;
     }
   }
@@ -333,7 +348,15 @@ int main(int argc, char** argv) {
     return 1;
   }
 
-  Renderer renderer{g, tracer, *engine};
+  exao::api::QuerySettings objects;
+  objects.radius = object_radius;
+  exao::api::Result<exao::api::Engine> object_engine = engine->with_settings(objects);
+  if (!object_engine) {
+    std::fprintf(stderr, "exao_renderer: --object-radius: %s\n", object_engine.error().message.c_str());
+    return 1;
+  }
+
+  Renderer renderer{g, tracer, *engine, *object_engine};
   renderer.width = width;
   renderer.height = height;
   renderer.spp = spp;
@@ -360,7 +383,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "exao_renderer: %s: cannot write\n", output.c_str());
     return 1;
   }
-  std::printf("%s: %d x %d, %d samples per pixel, AO N = %d, r = %g (%s backend)\n", output.c_str(), width, height, spp,
-              samples, static_cast<double>(radius), "bvh");
+  std::printf("%s: %d x %d, %d samples per pixel, AO N = %d, r = %g (objects %g, %s backend)\n", output.c_str(), width,
+              height, spp, samples, static_cast<double>(radius), static_cast<double>(object_radius), "bvh");
   return 0;
 }

@@ -6,7 +6,8 @@ set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 bash "$here/scripts/install-deps.sh"
 cmake -S "$here" -B "$here/build" -G Ninja -DCMAKE_BUILD_TYPE=Release
-cmake --build "$here/build" -j2 --target exao
+# exao_api: libexao.so, so that `cmake --install build` works right after (README)
+cmake --build "$here/build" -j2 --target exao exao_api
 "$here/build/cli/exao" bake
 "$here/build/cli/exao" render -o ao.exr --png ao.png
 # The Python module (`import exao` in /usr/bin/python3 and Debian's Blender) and the Blender add-on zip.

@@ -167,13 +167,13 @@ static void bad_arguments(void) {
   CHECK(engine == NULL, "engine reset");
   CHECK(strstr(message, "samples") != NULL, "message names samples: %s", message);
   options.samples = 64;
-  options.radius = -1.0f;
-  CHECK(exao_engine_open("room", &options, &engine, message, sizeof message) == EXAO_INVALID_ARGUMENT, "radius -1");
-  CHECK(strstr(message, "radius") != NULL, "message names radius: %s", message);
+  options.radius = 0.0f; /* refused, as C++ refuses it: negative is the C spelling of "the default" */
+  CHECK(exao_engine_open("room", &options, &engine, message, sizeof message) == EXAO_INVALID_ARGUMENT, "radius 0");
+  CHECK(strstr(message, "options.radius") != NULL, "message names options.radius: %s", message);
   options.radius = NAN;
   CHECK(exao_engine_open("room", &options, &engine, message, 8) == EXAO_INVALID_ARGUMENT, "radius NaN");
   CHECK(strlen(message) == 7, "message truncated to the buffer: '%s'", message);
-  options.radius = 0.0f;
+  options.radius = -1.0f;
   CHECK(exao_engine_open("/nonexistent.glb", &options, &engine, message, sizeof message) == EXAO_FILE_ERROR, "missing file");
   CHECK(strstr(message, "/nonexistent.glb") != NULL, "message names the file: %s", message);
   CHECK(exao_engine_open(NULL, &options, &engine, message, sizeof message) == EXAO_INVALID_ARGUMENT, "null name");
@@ -208,11 +208,41 @@ static void bad_arguments(void) {
   CHECK(exao_ao_batch(engine, receivers, 2, out) == EXAO_INVALID_ARGUMENT, "bad receiver in a batch");
   exao_engine_last_error(engine, message, sizeof message);
   CHECK(strstr(message, "receivers[1]") != NULL, "names receivers[1]: %s", message);
-  CHECK(out[0] == -1.0f, "nothing written");
+  CHECK(out[0] > 0.0f && out[0] < 1.0f && isnan(out[1]), "the good receiver computed, the bad one NaN: %g %g", out[0], out[1]);
   CHECK(exao_ao_batch(engine, NULL, 2, out) == EXAO_INVALID_ARGUMENT, "null receivers");
   CHECK(exao_ao_batch(engine, receivers, 1, out) == EXAO_OK && out[0] > 0.0f && out[0] < 1.0f, "good batch %g", out[0]);
+  CHECK(exao_engine_last_error(engine, message, sizeof message) == 0 && message[0] == '\0',
+        "a query that succeeds clears the message: '%s'", message);
   CHECK(exao_ao(engine, p, up, 0, &ao) == EXAO_OK && ao == out[0], "single == batch (same point, normal and key)");
   CHECK(exao_engine_last_error(NULL, NULL, 0) == 0, "null engine, no message");
+
+  /* Per-receiver statuses: the bad receiver is named and NaN, the good one computed. */
+  exao_status statuses[2] = {EXAO_INTERNAL_ERROR, EXAO_INTERNAL_ERROR};
+  out[0] = out[1] = -1.0f;
+  CHECK(exao_ao_batch_statuses(engine, receivers, 2, out, statuses) == EXAO_INVALID_ARGUMENT, "one bad receiver");
+  CHECK(statuses[0] == EXAO_OK && statuses[1] == EXAO_INVALID_ARGUMENT, "statuses %d %d", statuses[0], statuses[1]);
+  CHECK(out[0] == ao && isnan(out[1]), "computed %g and NaN %g", out[0], out[1]);
+
+  /* A derived engine with another radius and N equals one built with them. */
+  exao_engine* derived = NULL;
+  CHECK(exao_engine_with_settings(engine, 0.75f, -1.0f, 64, &derived, message, sizeof message) == EXAO_OK, "derived: %s",
+        message);
+  exao_engine* fresh = NULL;
+  options.radius = 0.75f;
+  options.samples = 64;
+  CHECK(exao_engine_create(&mesh, 1, &options, &fresh, message, sizeof message) == EXAO_OK, "fresh: %s", message);
+  if (derived && fresh) {
+    float a = -1.0f, b = -2.0f;
+    CHECK(exao_ao(derived, p, up, 5, &a) == EXAO_OK && exao_ao(fresh, p, up, 5, &b) == EXAO_OK && a == b,
+          "derived == fresh: %g %g", a, b);
+    CHECK(exao_engine_samples(derived) == 64, "derived N");
+  }
+  exao_engine_destroy(fresh);
+  exao_engine_destroy(derived);
+  derived = NULL;
+  CHECK(exao_engine_with_settings(engine, 0.0f, -1.0f, 0, &derived, message, sizeof message) == EXAO_INVALID_ARGUMENT &&
+            derived == NULL && strstr(message, "settings.radius") != NULL,
+        "derived radius 0 refused: %s", message);
   exao_engine_destroy(engine);
   exao_engine_destroy(NULL);
 
@@ -242,7 +272,7 @@ int main(int argc, char** argv) {
   same_as_exao_query(argv[1], argv[2], &options, "-n 128 -r 0.8 --masks lut --method bvh");
   options.samples = 1024;
   options.mask_mode = EXAO_MASKS_EXACT;
-  options.radius = 0.0f; /* the default: 5% of the diagonal */
+  options.radius = -1.0f; /* the default: 5% of the diagonal */
   same_as_exao_query(argv[1], argv[2], &options, "-n 1024 --masks exact --method bvh");
   options.samples = 64;
   options.radius = 0.4f;

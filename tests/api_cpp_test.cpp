@@ -8,10 +8,13 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
+#include <bit>
+#include <limits>
 #include <stdexcept>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <optional>
 #include <random>
 #include <sstream>
 #include <string>
@@ -383,18 +386,154 @@ TEST(ApiCpp, ProgressAndStats) {
     std::size_t seen = last.load();
     while (done > seen && !last.compare_exchange_weak(seen, done)) {
     }
+    return true;
   };
   batch.stats = &stats;
   ASSERT_TRUE(engine->ao(receivers, ao, batch));
   EXPECT_EQ(last.load(), receivers.size());
   EXPECT_EQ(stats.receivers, receivers.size());
   EXPECT_GT(stats.triangles_tested, 0u);
-  // A throwing callback ends the batch with an error, not a crash.
-  batch.progress = [](std::size_t, std::size_t) { throw std::runtime_error("stop"); };
+  // A throwing callback ends the batch with its own code and the exception's message (it was
+  // InternalError, "a bug in exao").
+  batch.progress = [](std::size_t, std::size_t) -> bool { throw std::runtime_error("the user's own reason"); };
   const Status stopped = engine->ao(receivers, ao, batch);
   ASSERT_FALSE(stopped);
-  EXPECT_EQ(stopped.code(), StatusCode::InternalError);
-  EXPECT_NE(stopped.error().message.find("stop"), std::string::npos);
+  EXPECT_EQ(stopped.code(), StatusCode::CallbackError) << stopped.error().message;
+  EXPECT_NE(stopped.error().message.find("the user's own reason"), std::string::npos) << stopped.error().message;
+}
+
+// progress cancels by returning false, and the batch says so with its own code; the calls stop.
+TEST(ApiCpp, ProgressCancelsByItsReturnValue) {
+  Options o;
+  o.samples = 64;
+  o.threads = 2;
+  Result<Engine> engine = Engine::open("room", o);
+  ASSERT_TRUE(engine);
+  // Enough receivers for many progress calls (one per task of a few dozen receivers).
+  const std::vector<Receiver> receivers = surface_receivers(*load_scene("room"), 20000, 9);
+  std::vector<float> ao(receivers.size());
+  std::atomic<int> calls{0};
+  BatchOptions batch;
+  batch.progress = [&](std::size_t, std::size_t) { return ++calls < 3; };
+  const Status cancelled = engine->ao(receivers, ao, batch);
+  ASSERT_FALSE(cancelled);
+  EXPECT_EQ(cancelled.code(), StatusCode::Cancelled) << cancelled.error().message;
+  EXPECT_NE(cancelled.error().message.find("batch.progress"), std::string::npos) << cancelled.error().message;
+  // Stopped early: far fewer calls than a whole batch makes (hundreds).
+  const int after_cancel = calls.load();
+  calls = -1000000;  // a whole batch now runs
+  ASSERT_TRUE(engine->ao(receivers, ao, batch));
+  EXPECT_LT(after_cancel, calls.load() + 1000000);
+}
+
+// One bad receiver gets NaN and its code; every other is computed, the same as without it.
+TEST(ApiCpp, ABadReceiverDoesNotFailTheBatch) {
+  Options o;
+  o.samples = 64;
+  Result<Engine> engine = Engine::open("room", o);
+  ASSERT_TRUE(engine);
+  std::vector<Receiver> receivers = surface_receivers(*load_scene("room"), 500, 4);
+  std::vector<float> clean(receivers.size());
+  ASSERT_TRUE(engine->ao(receivers, clean));
+  receivers[17].position.x = std::numeric_limits<float>::quiet_NaN();
+  receivers[300].normal = {0, 0, 0};
+  std::vector<float> ao(receivers.size(), -1.0f);
+  std::vector<StatusCode> statuses(receivers.size(), StatusCode::InternalError);
+  BatchOptions batch;
+  batch.statuses = statuses;
+  const Status status = engine->ao(receivers, ao, batch);
+  ASSERT_FALSE(status);
+  EXPECT_EQ(status.code(), StatusCode::InvalidArgument);
+  EXPECT_NE(status.error().message.find("receivers[17]"), std::string::npos) << status.error().message;
+  EXPECT_NE(status.error().message.find("2 of 500"), std::string::npos) << status.error().message;
+  for (std::size_t i = 0; i < receivers.size(); ++i) {
+    if (i == 17 || i == 300) {
+      EXPECT_TRUE(std::isnan(ao[i])) << i;
+      EXPECT_EQ(statuses[i], StatusCode::InvalidArgument) << i;
+    } else {
+      EXPECT_EQ(ao[i], clean[i]) << i;
+      EXPECT_EQ(statuses[i], StatusCode::Ok) << i;
+    }
+  }
+  // Masks too: the bad receivers' words are zero, the others' equal a clean batch's.
+  std::vector<std::uint64_t> words(receivers.size() * engine->mask_words(), ~std::uint64_t{0});
+  EXPECT_EQ(engine->masks(receivers, words).code(), StatusCode::InvalidArgument);
+  for (std::size_t w = 0; w < engine->mask_words(); ++w) EXPECT_EQ(words[17 * engine->mask_words() + w], 0u);
+  for (std::size_t i = 0; i < receivers.size(); ++i) {
+    int blocked = 0;
+    for (std::size_t w = 0; w < engine->mask_words(); ++w) blocked += std::popcount(words[i * engine->mask_words() + w]);
+    if (i != 17 && i != 300) {
+      EXPECT_EQ(1.0f - static_cast<float>(blocked) / 64.0f, clean[i]) << i;
+    }
+  }
+  std::vector<StatusCode> wrong_size(3);
+  batch.statuses = wrong_size;
+  EXPECT_EQ(engine->ao(receivers, ao, batch).code(), StatusCode::InvalidArgument);
+}
+
+}  // namespace
+}  // namespace exao::api
+
+namespace exao::api {
+namespace {
+
+// Per-call settings (issue 22): an engine derived with another radius, offset and N over the
+// same scene gives the bits of an engine built from scratch with them, leaves its source as it
+// was, outlives it, and names its bad settings.
+TEST(ApiCpp, WithSettingsEqualsAFreshEngine) {
+  Options o;
+  o.samples = 64;
+  o.radius = 0.5f;
+  std::optional<Engine> base;
+  {
+    Result<Engine> built = Engine::open("room", o);
+    ASSERT_TRUE(built) << built.error().message;
+    base.emplace(std::move(*built));
+  }
+  const std::vector<Receiver> receivers = surface_receivers(*load_scene("room"), 400, 11);
+  std::vector<float> before(receivers.size());
+  ASSERT_TRUE(base->ao(receivers, before));
+
+  QuerySettings settings;
+  settings.radius = 1.25f;
+  settings.samples = 128;
+  settings.origin_offset = 0.002f;
+  Result<Engine> derived = base->with_settings(settings);
+  ASSERT_TRUE(derived) << derived.error().message;
+  EXPECT_EQ(derived->info().radius, 1.25f);
+  EXPECT_EQ(derived->info().samples, 128);
+  EXPECT_EQ(derived->info().origin_offset, 0.002f);
+  EXPECT_EQ(derived->info().triangles, base->info().triangles);
+
+  Options fresh_options = o;
+  fresh_options.radius = 1.25f;
+  fresh_options.samples = 128;
+  fresh_options.origin_offset = 0.002f;
+  Result<Engine> fresh = Engine::open("room", fresh_options);
+  ASSERT_TRUE(fresh) << fresh.error().message;
+  std::vector<float> want(receivers.size()), got(receivers.size()), again(receivers.size());
+  ASSERT_TRUE(fresh->ao(receivers, want));
+  ASSERT_TRUE(derived->ao(receivers, got));
+  EXPECT_EQ(got, want);
+  ASSERT_TRUE(base->ao(receivers, again));
+  EXPECT_EQ(again, before) << "the source engine changed";
+
+  base.reset();  // the derived engine shares the scene, and keeps it alive
+  ASSERT_TRUE(derived->ao(receivers, got));
+  EXPECT_EQ(got, want);
+  EXPECT_EQ(*derived->ao(receivers[3]), want[3]);
+
+  QuerySettings bad;
+  bad.samples = 33;
+  const Result<Engine> bad_samples = derived->with_settings(bad);
+  ASSERT_FALSE(bad_samples);
+  EXPECT_NE(bad_samples.error().message.find("settings.samples"), std::string::npos) << bad_samples.error().message;
+  bad = {};
+  bad.radius = 0.0f;
+  const Result<Engine> bad_radius = derived->with_settings(bad);
+  ASSERT_FALSE(bad_radius);
+  EXPECT_EQ(bad_radius.code(), StatusCode::InvalidArgument);
+  EXPECT_NE(bad_radius.error().message.find("settings.radius"), std::string::npos) << bad_radius.error().message;
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 #include <string>
 #include <vector>
@@ -66,6 +67,13 @@ TEST(ApiErrors, BadOptions) {
   expect_error(with([](Options& o) { o.table_resolution = 1000; }), StatusCode::InvalidArgument, "options.table_resolution");
   expect_error(with([](Options& o) { o.bvh_branching = 3; }), StatusCode::InvalidArgument, "options.bvh_branching");
   expect_error(with([](Options& o) { o.backend = static_cast<Backend>(7); }), StatusCode::InvalidArgument, "options.backend");
+  // Enum errors give the value the caller passed (the backend's was remapped to -1 once).
+  expect_error(with([](Options& o) { o.backend = static_cast<Backend>(9); }), StatusCode::InvalidArgument, "got 9");
+  expect_error(with([](Options& o) { o.backend = static_cast<Backend>(-3); }), StatusCode::InvalidArgument, "got -3");
+  expect_error(with([](Options& o) { o.falloff = static_cast<Falloff>(5); }), StatusCode::InvalidArgument, "got 5");
+  expect_error(with([](Options& o) { o.mask_mode = static_cast<MaskMode>(6); }), StatusCode::InvalidArgument, "got 6");
+  expect_error(with([](Options& o) { o.sidedness = static_cast<Sidedness>(7); }), StatusCode::InvalidArgument, "got 7");
+  expect_error(with([](Options& o) { o.embree_rays = static_cast<EmbreeRays>(8); }), StatusCode::InvalidArgument, "got 8");
   expect_error(with([](Options& o) { o.falloff = static_cast<Falloff>(-1); }), StatusCode::InvalidArgument, "options.falloff");
   expect_error(with([](Options& o) { o.mask_mode = static_cast<MaskMode>(2); }), StatusCode::InvalidArgument, "options.mask_mode");
   expect_error(with([](Options& o) { o.sidedness = static_cast<Sidedness>(3); }), StatusCode::InvalidArgument, "options.sidedness");
@@ -99,7 +107,7 @@ TEST(ApiErrors, BadMeshes) {
   expect_error(Engine::build(nan_vertex.mesh(), o), StatusCode::InvalidArgument, "non-finite vertex");
   Triangle collinear;
   collinear.vertices[6] = 3.0f, collinear.vertices[7] = 1.0f, collinear.vertices[8] = -1.0f;  // on the first edge's line
-  expect_error(Engine::build(collinear.mesh(), o), StatusCode::InvalidArgument, "no triangle of non-zero area");
+  expect_error(Engine::build(collinear.mesh(), o), StatusCode::InvalidArgument, "1 of zero area");
 
   // A zero-area triangle beside a good one is dropped and counted, not an error.
   const float two[] = {-1, 1, -1, 1, 1, -1, 0, 1, 1, 0, 0, 0, 0, 0, 0, 1, 1, 1};
@@ -111,6 +119,70 @@ TEST(ApiErrors, BadMeshes) {
   ASSERT_TRUE(engine) << engine.error().message;
   EXPECT_EQ(engine->info().triangles, 1u);
   EXPECT_EQ(engine->info().zero_area_skipped, 1u);
+}
+
+// Vertices beyond +-1e17 (Embree's limit) are dropped: counted, and when nothing is left the
+// error says why (it said "no triangle of non-zero area" of a scene of large triangles).
+TEST(ApiErrors, DroppedGeometryIsCountedAndExplained) {
+  const Options o = small();
+  Triangle far;
+  far.vertices[0] = 2e17f;
+  expect_error(Engine::build(far.mesh(), o), StatusCode::InvalidArgument, "1 with a vertex beyond +-1e17");
+
+  const float two[] = {-1, 1, -1, 1, 1, -1, 0, 1, 1, 3e17f, 0, 0, 0, 0, 0, 1, 1, 1};
+  Mesh both;
+  both.vertices = two;
+  both.vertex_count = 6;
+  both.triangle_count = 2;
+  Result<Engine> engine = Engine::build(both, o);
+  ASSERT_TRUE(engine) << engine.error().message;
+  EXPECT_EQ(engine->info().triangles, 1u);
+  EXPECT_EQ(engine->info().beyond_limit_skipped, 1u);
+  EXPECT_EQ(engine->info().zero_area_skipped, 0u);
+}
+
+// value() of an error is loud in every build type (it was an assert: UB, a SIGSEGV in Release).
+TEST(ApiErrors, ValueOfAnErrorThrows) {
+  const Triangle tri;
+  Options o = small();
+  o.samples = 33;
+  const Result<Engine> failed = Engine::build(tri.mesh(), o);
+  ASSERT_FALSE(failed);
+  try {
+    (void)failed.value();
+    ADD_FAILURE() << "value() of an error returned";
+  } catch (const BadResultAccess& e) {
+    EXPECT_EQ(e.error().code, StatusCode::InvalidArgument);
+    EXPECT_NE(std::string(e.what()).find("options.samples"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW((void)failed->info(), BadResultAccess);
+  const Result<float> fine = 0.5f;
+  EXPECT_THROW((void)fine.error(), BadResultAccess);
+  EXPECT_THROW((void)Status().error(), BadResultAccess);
+}
+
+// Run by CTest with EXAO_ISA set (api_errors_isa_*): EngineInfo::simd is the level the kernels
+// run (it gave the level the library was compiled for), a bad value is an error naming it, and
+// the library prints nothing (it warned on stderr).
+TEST(ApiEnvironment, IsaLevel) {
+  const char* env = std::getenv("EXAO_ISA");
+  if (!env) GTEST_SKIP() << "EXAO_ISA is not set";
+  const Triangle tri;
+  testing::internal::CaptureStderr();
+  const Result<Engine> engine = Engine::build(tri.mesh(), small());
+  Options embree = small();
+  embree.backend = Backend::Embree;
+  const Result<Engine> reference = Engine::build(tri.mesh(), embree);
+  const std::string printed = testing::internal::GetCapturedStderr();
+  EXPECT_EQ(printed, "") << "the library printed";
+  if (std::string(env) == "bogus") {
+    expect_error(engine, StatusCode::InvalidArgument, "EXAO_ISA: 'bogus'");
+    return;
+  }
+  ASSERT_TRUE(engine) << engine.error().message;
+  EXPECT_STREQ(engine->info().simd, env);
+  ASSERT_TRUE(reference) << reference.error().message;
+  EXPECT_STREQ(reference->info().simd, "none");
 }
 
 TEST(ApiErrors, BadFiles) {
@@ -143,12 +215,19 @@ TEST(ApiErrors, BadQueries) {
   EXPECT_LT(*ao, 1.0f);
   EXPECT_GT(*ao, 0.0f);
 
-  // Batches: sizes must match, and a bad receiver is named by index with nothing written.
+  // Batches: sizes must match, and a bad receiver is named by index, gets NaN, and the others
+  // are computed.
   std::vector<Receiver> receivers(4, Receiver{{0, 0, 0}, {0, 1, 0}, 0});
   receivers[2].normal = {0, 0, 0};
   std::vector<float> out(4, -7.0f);
   expect_error(engine.ao(receivers, out), StatusCode::InvalidArgument, "receivers[2]");
-  for (const float v : out) EXPECT_EQ(v, -7.0f);
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    if (i == 2) {
+      EXPECT_TRUE(std::isnan(out[i]));
+    } else {
+      EXPECT_EQ(out[i], *engine.ao(receivers[i]));
+    }
+  }
   std::vector<float> short_out(3);
   expect_error(engine.ao(receivers, short_out), StatusCode::InvalidArgument, "ao");
   std::vector<std::uint64_t> words(3);

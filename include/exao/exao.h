@@ -45,7 +45,9 @@ typedef enum exao_status {
   EXAO_OUT_OF_MEMORY = 2,    /* an allocation failed; the engine (if any) is unchanged */
   EXAO_FILE_ERROR = 3,       /* a scene file is missing, unreadable or malformed */
   EXAO_BACKEND_ERROR = 4,    /* Embree refused (device creation, scene build) */
-  EXAO_INTERNAL_ERROR = 5    /* a bug in exao: please report the message */
+  EXAO_INTERNAL_ERROR = 5,   /* a bug in exao: please report the message */
+  EXAO_CANCELLED = 6,        /* a batch's progress callback asked to stop (C++ API) */
+  EXAO_CALLBACK_ERROR = 7    /* a callback the caller gave threw (C++ API) */
 } exao_status;
 
 /* A short English text for a status, e.g. "invalid argument"; "unknown status" for a value
@@ -72,7 +74,8 @@ typedef enum exao_embree_rays {
 /* Engine settings; the meaning of each field is that of exao::api::Options. Always start from
  * exao_options_init, so that fields added later get their defaults. */
 typedef struct exao_options {
-  float radius;           /* r, world units, > 0; 0: 5% of the bounding-box diagonal (default 0) */
+  float radius;           /* r, world units, > 0 and at most 1e17; negative: 5% of the bounding-box
+                             diagonal (default -1). 0 and NaN are refused, as in C++ */
   int samples;            /* N: a multiple of 32 in [32, 1024] (default 128) */
   exao_falloff falloff;   /* default EXAO_FALLOFF_CONSTANT */
   uint64_t pattern_seed;  /* default 0x65CA0 */
@@ -127,6 +130,13 @@ EXAO_API exao_status exao_engine_open(const char* name_or_path, const exao_optio
 /* Releases an engine. NULL is ignored. No query may be running on it. */
 EXAO_API void exao_engine_destroy(exao_engine* engine);
 
+/* An engine over the same scene with other settings (exao::api::Engine::with_settings): it
+ * shares the scene's structures (nothing is rebuilt) and outlives `engine`; destroy it with
+ * exao_engine_destroy. radius and origin_offset negative, samples 0: the engine's own. Errors:
+ * EXAO_INVALID_ARGUMENT naming settings.radius, settings.origin_offset or settings.samples. */
+EXAO_API exao_status exao_engine_with_settings(const exao_engine* engine, float radius, float origin_offset, int samples,
+                                               exao_engine** derived, char* error_buffer, size_t error_buffer_size);
+
 /* What an engine was built with, defaults resolved (see exao::api::EngineInfo). */
 typedef struct exao_engine_info {
   exao_backend backend;
@@ -140,11 +150,13 @@ typedef struct exao_engine_info {
   size_t triangles;
   size_t two_sided_triangles;
   size_t zero_area_skipped;
+  size_t beyond_limit_skipped;  /* triangles dropped for a vertex beyond +-1e17 */
   float bounds_lo[3];
   float bounds_hi[3];
   int table_resolution;
   size_t table_bytes;
-  const char* simd;             /* "avx512", "avx2" or "scalar"; static storage */
+  const char* simd;             /* the level the mask kernels run: "scalar", "sse2", "sse4", "avx2",
+                                   "avx512"; "none" for the embree backend; static storage */
 } exao_engine_info;
 
 /* Fills *info. Errors: EXAO_INVALID_ARGUMENT when engine or info is NULL. */
@@ -153,10 +165,11 @@ EXAO_API exao_status exao_engine_get_info(const exao_engine* engine, exao_engine
 /* N, the rays per receiver; 0 for a NULL engine. */
 EXAO_API int exao_engine_samples(const exao_engine* engine);
 
-/* Copies the message of the most recent failed query on this engine (from any thread; with
- * concurrent failures, one of them) into buffer, truncated to buffer_size - 1 bytes and
- * NUL-terminated; "" when none failed. Returns the message's full length in bytes (as snprintf
- * does), 0 for a NULL engine. buffer may be NULL when buffer_size is 0. */
+/* Copies the message of the calling thread's most recent query into buffer, when that query was
+ * on this engine and failed (like errno: per thread, so concurrent queries never see each
+ * other's messages); "" when it succeeded, or was on another engine, or there was none. Truncated
+ * to buffer_size - 1 bytes and NUL-terminated. Returns the message's full length in bytes (as
+ * snprintf does), 0 for a NULL engine. buffer may be NULL when buffer_size is 0. */
 EXAO_API size_t exao_engine_last_error(const exao_engine* engine, char* buffer, size_t buffer_size);
 
 /* --- Queries ------------------------------------------------------------------------------ */
@@ -183,8 +196,15 @@ EXAO_API exao_status exao_mask(const exao_engine* engine, const float position[3
                                float* lengths);
 
 /* ao[i] = AO of receivers[i], i < count, in parallel on the engine's threads. count 0 is a
- * no-op. Errors: EXAO_INVALID_ARGUMENT naming the first bad receiver (nothing is written). */
+ * no-op. A bad receiver (non-finite position, a normal that cannot be normalised) gets
+ * ao NaN while every other is computed; the call then returns EXAO_INVALID_ARGUMENT, and
+ * exao_engine_last_error names the first bad receiver and how many there were. */
 EXAO_API exao_status exao_ao_batch(const exao_engine* engine, const exao_receiver* receivers, size_t count, float* ao);
+
+/* exao_ao_batch with one status per receiver: statuses[i] (count entries, not NULL) is EXAO_OK
+ * for a receiver that was computed, EXAO_INVALID_ARGUMENT for a bad one (whose ao is NaN). */
+EXAO_API exao_status exao_ao_batch_statuses(const exao_engine* engine, const exao_receiver* receivers, size_t count,
+                                            float* ao, exao_status* statuses);
 
 /* Masks of count receivers, in parallel: receiver i's (N + 63) / 64 words at
  * words[i * ((N + 63) / 64)]; `words` holds count * ((N + 63) / 64) words. */

@@ -25,7 +25,13 @@
 //
 // Errors: every function is noexcept. Bad input returns an Error (a StatusCode and a one-line
 // message naming the argument); nothing is thrown across this boundary, printed, or fatal; an
-// allocation failure returns StatusCode::OutOfMemory.
+// allocation failure returns StatusCode::OutOfMemory. Only reading the value of a Result that
+// holds an error (or its error when it holds a value) throws, BadResultAccess, in the caller's
+// code: a precondition violation that must not pass silently in a Release build.
+//
+// Radius: every radius up to 1e17 is exact, far beyond the scene too (a renderer's "unbounded"):
+// no segment from a receiver reaches geometry past the farthest corner of the occluders' box,
+// so the masks cap every ray there, which hits the same triangles.
 //
 // Threads: an Engine is immutable after build. Any number of threads may call its const
 // functions at the same time, on the same engine, with no locking by the caller. Single queries
@@ -43,6 +49,7 @@
 #include <memory>
 #include <optional>
 #include <span>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -72,6 +79,8 @@ enum class StatusCode : int {
   FileError = 3,        // a scene file is missing, unreadable or malformed
   BackendError = 4,     // Embree refused (device creation, scene build)
   InternalError = 5,    // a bug in exao: please report the message
+  Cancelled = 6,        // a batch's progress callback returned false
+  CallbackError = 7,    // a callback the caller gave threw; the message holds its what()
 };
 
 /// A short English text for the code, e.g. "invalid argument" (static storage; never null).
@@ -83,8 +92,24 @@ struct Error {
   std::string message;
 };
 
+/// Thrown by Result::value() (and its * and ->) on an error, and by error() on a value, as
+/// std::expected throws bad_expected_access: a precondition violation, loud in every build type
+/// (a Release client must not read a value that is not there). what() is the error's message.
+class BadResultAccess : public std::logic_error {
+ public:
+  explicit BadResultAccess(const Error& error)
+      : std::logic_error("exao: value() of a failed Result: " + error.message), error_(error) {}
+  BadResultAccess() : std::logic_error("exao: error() of a Result that holds a value") {}
+  /// The error the Result held (code Ok when error() was called on a value).
+  [[nodiscard]] const Error& error() const noexcept { return error_; }
+
+ private:
+  Error error_{StatusCode::Ok, {}};
+};
+
 /// A value of T or an Error: the subset of C++23 std::expected that callers use. Accessing the
-/// value of an error, or the error of a value, is a precondition violation (asserted).
+/// value of an error, or the error of a value, throws BadResultAccess (the only exception this
+/// header's types throw; the library's functions themselves never throw).
 template <class T>
 class [[nodiscard]] Result {
  public:
@@ -96,9 +121,9 @@ class [[nodiscard]] Result {
   /// StatusCode::Ok with a value, else the error's code.
   [[nodiscard]] StatusCode code() const noexcept { return has_value() ? StatusCode::Ok : std::get<1>(v_).code; }
 
-  [[nodiscard]] T& value() & { assert(has_value()); return *std::get_if<0>(&v_); }
-  [[nodiscard]] const T& value() const& { assert(has_value()); return *std::get_if<0>(&v_); }
-  [[nodiscard]] T&& value() && { assert(has_value()); return std::move(*std::get_if<0>(&v_)); }
+  [[nodiscard]] T& value() & { check(); return *std::get_if<0>(&v_); }
+  [[nodiscard]] const T& value() const& { check(); return *std::get_if<0>(&v_); }
+  [[nodiscard]] T&& value() && { check(); return std::move(*std::get_if<0>(&v_)); }
   [[nodiscard]] T& operator*() & { return value(); }
   [[nodiscard]] const T& operator*() const& { return value(); }
   [[nodiscard]] T&& operator*() && { return std::move(*this).value(); }
@@ -109,9 +134,15 @@ class [[nodiscard]] Result {
   [[nodiscard]] T value_or(U&& fallback) const& {
     return has_value() ? *std::get_if<0>(&v_) : static_cast<T>(std::forward<U>(fallback));
   }
-  [[nodiscard]] const Error& error() const { assert(!has_value()); return *std::get_if<1>(&v_); }
+  [[nodiscard]] const Error& error() const {
+    if (has_value()) throw BadResultAccess();
+    return *std::get_if<1>(&v_);
+  }
 
  private:
+  void check() const {
+    if (!has_value()) throw BadResultAccess(*std::get_if<1>(&v_));
+  }
   std::variant<T, Error> v_;
 };
 
@@ -124,8 +155,11 @@ class [[nodiscard]] Status {
   [[nodiscard]] bool ok() const noexcept { return !error_; }
   explicit operator bool() const noexcept { return ok(); }
   [[nodiscard]] StatusCode code() const noexcept { return error_ ? error_->code : StatusCode::Ok; }
-  /// The error; precondition !ok() (asserted).
-  [[nodiscard]] const Error& error() const { assert(error_); return *error_; }
+  /// The error; throws BadResultAccess when ok().
+  [[nodiscard]] const Error& error() const {
+    if (!error_) throw BadResultAccess();
+    return *error_;
+  }
 
  private:
   std::optional<Error> error_;
@@ -336,11 +370,16 @@ struct EngineInfo {
   std::size_t triangles = 0;       // triangles kept (non-zero area)
   std::size_t two_sided_triangles = 0;
   std::size_t zero_area_skipped = 0;  // triangles of the meshes dropped for zero area (they block nothing)
+  std::size_t beyond_limit_skipped = 0;  // ... dropped for a vertex beyond +-1e17 (Embree's limit; with
+                                   // Engine::open, non-finite vertices of the file too). When every
+                                   // triangle is dropped, build refuses the scene saying why.
   Vec3 bounds_lo;                  // the scene's bounding box, world units
   Vec3 bounds_hi;
   int table_resolution = 0;        // look-up table cells per side (0: no table)
   std::size_t table_bytes = 0;     // memory of the look-up table
-  const char* simd = "";           // instruction set of the mask kernels: "avx512", "avx2" or "scalar"
+  const char* simd = "";           // the instruction set the mask kernels run: "scalar", "sse2", "sse4",
+                                   // "avx2" or "avx512" (the CPU's best, or what EXAO_ISA says);
+                                   // "none" for Backend::Embree, which runs no mask kernel
 };
 
 /// Work counters of batch queries with the bvh backend (zero for the others).
@@ -354,13 +393,27 @@ struct WorkStats {
 /// Optional settings of one batch query.
 struct BatchOptions {
   /// Called with (done, total) receivers from worker threads, possibly concurrently; must be
-  /// thread-safe and must not throw (an exception it throws ends the batch with InternalError).
-  std::function<void(std::size_t done, std::size_t total)> progress;
+  /// thread-safe. Return true to go on, false to cancel: the batch then stops as soon as the
+  /// workers notice and returns StatusCode::Cancelled (outputs are left partly written). An
+  /// exception it throws stops the batch the same way and comes back as
+  /// StatusCode::CallbackError with the exception's what() in the message.
+  std::function<bool(std::size_t done, std::size_t total)> progress;
+  /// When not empty, one entry per receiver (else InvalidArgument): StatusCode::Ok for a
+  /// receiver that was computed, InvalidArgument for a bad one (see below). Empty: not reported.
+  std::span<StatusCode> statuses;
   /// When not null, the bvh backend adds its work counters to *stats (the caller's object; not
   /// synchronised: give each concurrent batch its own).
   WorkStats* stats = nullptr;
   /// Overrides Options::embree_rays for this batch.
   std::optional<EmbreeRays> embree_rays;
+};
+
+/// Settings of queries that differ from an engine's own (Engine::with_settings): a renderer's
+/// per-material AO distance, or fewer rays for a preview. nullopt keeps the engine's.
+struct QuerySettings {
+  std::optional<float> radius;         // r, world units: as Options::radius
+  std::optional<float> origin_offset;  // eps, world units: as Options::origin_offset
+  std::optional<int> samples;          // N: as Options::samples
 };
 
 /// An AO engine: the scene's triangles in the backend's structure, the sample pattern and the
@@ -386,6 +439,15 @@ class EXAO_API Engine {
   Engine(const Engine&) = delete;
   Engine& operator=(const Engine&) = delete;
   ~Engine();
+
+  /// An engine over the same scene with other settings: it shares this engine's BVH, Embree
+  /// scene and triangles (nothing of the scene is copied or rebuilt, and it stays valid after
+  /// this engine is destroyed), with its own rays. Sample patterns are cached by N, falloff and
+  /// seed, so making one costs the pattern's sample arrays (microseconds) and, with
+  /// MaskMode::Lut, a plane table (about a second): make one per material or setting once, and
+  /// query it like any engine. Errors: InvalidArgument naming settings.radius,
+  /// settings.origin_offset or settings.samples, or the engine when it is empty.
+  [[nodiscard]] Result<Engine> with_settings(const QuerySettings& settings) const noexcept;
 
   /// The resolved settings and sizes (for an empty, moved-from engine: all zero).
   [[nodiscard]] const EngineInfo& info() const noexcept;
@@ -414,8 +476,12 @@ class EXAO_API Engine {
 
   // Batch queries: parallel on the engine's worker threads (Options::threads); the receivers
   // are visited in a cache-friendly order and the results written in the caller's order.
-  // Every receiver is checked first: on an error nothing is written and the message names the
-  // first bad receiver's index.
+  // Every receiver is checked first. A bad one (as for a single query: a non-finite or too
+  // distant position, a normal that cannot be normalised) does not stop the others: its AO is
+  // NaN (its mask all zero words), its entry of BatchOptions::statuses is InvalidArgument, and
+  // every other receiver is computed; the batch then returns InvalidArgument naming the first
+  // bad receiver's index and how many there were. Sizes that do not match, a moved-from engine,
+  // Cancelled and CallbackError fail the whole batch.
 
   /// ao[i] = AO of receivers[i]; ao.size() must equal receivers.size().
   [[nodiscard]] Status ao(std::span<const Receiver> receivers, std::span<float> ao,
