@@ -103,8 +103,9 @@ constexpr std::array<std::pair<std::string_view, std::string_view>, 12> kOptionN
   // The public numbering of backends is not the engine's: checked here, so that the error gives
   // the value the caller passed.
   const int backend = static_cast<int>(options.backend);
-  if (backend < 0 || backend > static_cast<int>(Backend::Raster)) {
-    return invalid("options.backend: not a backend (0 bvh, 1 brute, 2 embree, 3 raster), got " + std::to_string(backend));
+  if (backend < 0 || backend > static_cast<int>(Backend::Auto)) {
+    return invalid("options.backend: not a backend (0 bvh, 1 brute, 2 embree, 3 raster, 4 auto), got " +
+                   std::to_string(backend));
   }
   const engine::Options o = to_engine(options);
   if (auto ok = engine::check_options(o); !ok) return from_engine(ok.error(), StatusCode::InvalidArgument);

@@ -62,15 +62,24 @@ void HybridController::record(int task_level, std::size_t receivers, double mask
   const double per_receiver = (mask_time_ns + ray_time_ns) / static_cast<double>(receivers);
   double& average = cost[task_level];
   average = average == 0.0 ? per_receiver : 0.75 * average + 0.25 * per_receiver;
-  int best = task_level;
-  for (int l = 0; l < kLevels; ++l) {
-    if (cost[l] > 0.0 && cost[l] < cost[best]) best = l;
-  }
+  last_tried[task_level] = tasks;
   ++tasks;
+  // Every level once first (a thread's first five tasks), cheapest first is not known yet.
+  for (int l = 0; l < kLevels; ++l) {
+    if (cost[l] == 0.0) {
+      level = l;
+      return;
+    }
+  }
+  int best = 0;
+  for (int l = 1; l < kLevels; ++l) {
+    if (cost[l] < cost[best]) best = l;
+  }
   level = best;
   if (tasks % kExplorePeriod == 0) {
     const int step = (tasks / kExplorePeriod) % 2 == 0 ? 1 : -1;
-    level = best + step >= 0 && best + step < kLevels ? best + step : best - step;
+    const int other = best + step >= 0 && best + step < kLevels ? best + step : best - step;
+    level = other;
   }
 }
 

@@ -17,8 +17,10 @@
 // (where masks decide the open rays too, and Embree casts only the grazing ones).
 // The allowance is one of five levels, 0, N/16, N/4, N and unbounded (masks to the end), and
 // which one pays is measured, not predicted: a thread keeps the running average of the wall time
-// per receiver of each level on its recent tasks, follows the cheapest, and gives every twelfth
-// task to a neighbouring level (alternately above and below), so that a change of geometry
+// per receiver of each level on its recent tasks (each level tried once on a thread's first five
+// tasks), follows the cheapest, and gives every sixteenth task to a neighbouring level
+// (alternately above and below; one that cost over twice the best only once its figure is
+// older than 128 tasks), so that a change of geometry
 // along the Morton order is noticed (neighbouring receivers see the same geometry: what the last
 // tasks cost is the best guess for the next). The prices are ratios of sums over recent tasks
 // (each decayed by 0.9 a task), so a task that casts a handful of rays weighs little.
@@ -57,10 +59,11 @@ struct HybridController {
   /// Every kExplorePeriod-th task tries a level next to the best: often enough to follow the
   /// geometry along the Morton order (a few hundred receivers), rare enough that trying a worse
   /// level costs a few percent.
-  static constexpr std::uint64_t kExplorePeriod = 12;
+  static constexpr std::uint64_t kExplorePeriod = 16;
   float rays_per_unit = 0.5f;   // price of one unit of mask work in Embree rays (measured)
   double cost[kLevels] = {};    // ns per receiver of each allowance level, running average (0: not tried)
-  int level = kUnbounded;       // the level of the next task
+  int level = 0;                // the level of the next task
+  std::uint64_t last_tried[kLevels] = {};  // the task each level last ran
   std::uint64_t tasks = 0;
   // Decayed sums of the prices' measurements: mask time and units, Embree time and rays.
   double mask_ns = 0.0, mask_units = 0.0, ray_ns = 0.0, rays = 0.0;

@@ -70,7 +70,7 @@ fi
     tag=$(basename "$json" .json)
     # items_per_second per (method, N, r): exao's exact ao() against the better caller loop.
     node -e '
-      const j = require(process.argv[1]); const rate = {};
+      const j = require(require("path").resolve(process.argv[1])); const rate = {};
       for (const b of j.benchmarks) {
         const m = b.name.match(/^BM_(\w+?)(?:\/(exact|auto))?\/N:(\d+)\/r_permille:(\d+)/); if (!m) continue;
         const key = m[3] + "/" + m[4], name = m[1] + (m[2] ? "_" + m[2] : "");
