@@ -194,8 +194,10 @@ Result<Part> read_part(const std::string& path) {
   part.index.resize(count);
   part.blocked.resize(count);
   const char* p = bytes.data() + at + sizeof count;
-  std::memcpy(part.index.data(), p, 4 * count);
-  std::memcpy(part.blocked.data(), p + 4 * count, 4 * count);
+  if (count > 0) {  // an empty part's vectors have no storage: memcpy must not see their null data
+    std::memcpy(part.index.data(), p, 4 * count);
+    std::memcpy(part.blocked.data(), p + 4 * count, 4 * count);
+  }
   Fnv fnv;
   fnv.add(bytes.data() + at, sizeof count + 8 * count);
   std::uint64_t stored = 0;
