@@ -62,7 +62,6 @@ void HybridController::record(int task_level, std::size_t receivers, double mask
   const double per_receiver = (mask_time_ns + ray_time_ns) / static_cast<double>(receivers);
   double& average = cost[task_level];
   average = average == 0.0 ? per_receiver : 0.75 * average + 0.25 * per_receiver;
-  last_tried[task_level] = tasks;
   ++tasks;
   // Every level once first (a thread's first five tasks), cheapest first is not known yet.
   for (int l = 0; l < kLevels; ++l) {
@@ -99,9 +98,10 @@ double nanoseconds(Clock::time_point a, Clock::time_point b) {
 template <int Bits, bool Stats>
 void run_task(const Bvh& bvh, const lut::MaskEngine& engine, const EmbreeScene& embree,
               std::span<const Receiver> receivers, std::size_t begin, std::size_t end, HybridPolicy policy,
-              HybridController& controller, MaskSet& masks, TraversalStats* stats) {
+              HybridController& controller, std::span<std::uint64_t> out, TraversalStats* stats) {
+  // out: the masks of receivers [begin, end), mask_words of N words each.
   const int n = engine.samples();
-  const std::size_t words = static_cast<std::size_t>(masks.words());
+  const std::size_t words = static_cast<std::size_t>(n + 63) / 64;
   const std::size_t count = end - begin;
   Frame frames[kTask];
   std::uint64_t undecided[kTask * (Bits / 64)];
@@ -121,7 +121,7 @@ void run_task(const Bvh& bvh, const lut::MaskEngine& engine, const EmbreeScene& 
     }
     HybridOutcome<Bits> outcome;
     const Mask<Bits> sure = traverse_certain<Bits, Stats>(bvh, engine, frames[i], stats, limit, outcome);
-    store(sure, masks.row(begin + i));
+    store(sure, out.subspan(i * words, words));
     store(outcome.undecided, row_undecided);
     units += outcome.units;
     if constexpr (Stats) {
@@ -131,7 +131,7 @@ void run_task(const Bvh& bvh, const lut::MaskEngine& engine, const EmbreeScene& 
   const Clock::time_point t1 = Clock::now();
   const std::size_t cast = embree.occlude_selected(
       engine.rays(), std::span<const Frame>(frames, count), std::span<const std::uint64_t>(undecided, count * words),
-      words, masks.all_rows().subspan(begin * words, count * words));
+      words, out);
   const Clock::time_point t2 = Clock::now();
   if (stats) {
     if (policy == HybridPolicy::Rays) stats->receivers += count;
@@ -156,8 +156,9 @@ void run(const Bvh& bvh, const lut::MaskEngine& engine, const EmbreeScene& embre
                       TraversalStats* mine = Stats ? &local.local() : nullptr;
                       for (std::size_t first = range.begin(); first < range.end(); first += kTask) {
                         const std::size_t last = std::min(range.end(), first + kTask);
-                        run_task<Bits, Stats>(bvh, engine, embree, receivers, first, last, policy, controller, masks,
-                                              mine);
+                        const std::size_t words = static_cast<std::size_t>(masks.words());
+                        run_task<Bits, Stats>(bvh, engine, embree, receivers, first, last, policy, controller,
+                                              masks.all_rows().subspan(first * words, (last - first) * words), mine);
                       }
                       counter.add(range.size());
                     });
@@ -182,38 +183,16 @@ MaskSet hybrid_occlusion(const Bvh& bvh, const lut::MaskEngine& engine, const Em
   return masks;
 }
 
-void hybrid_mask_one(const Bvh& bvh, const lut::MaskEngine& engine, const EmbreeScene& embree, const Frame& frame,
+void hybrid_mask_one(const Bvh& bvh, const lut::MaskEngine& engine, const EmbreeScene& embree, const Receiver& receiver,
                      HybridPolicy policy, HybridControllers& controllers, std::span<std::uint64_t> words) {
-  const int n = engine.samples();
-  with_mask_bits(n, [&](auto bits) {
+  // One receiver is a task of one: the thread's level, timed like a task (three clock reads,
+  // tens of nanoseconds against microseconds of work), so single-point callers learn too.
+  std::fill(words.begin(), words.end(), 0);
+  with_mask_bits(engine.samples(), [&](auto bits) {
     constexpr int Bits = decltype(bits)::value;
     const lut::FlushDenormals flush;
-    HybridController& controller = controllers.local();
-    std::uint64_t undecided[Bits / 64];
-    std::span<std::uint64_t> row_undecided(undecided, words.size());
-    // One receiver is a task of one: the thread's level, timed like a task (three clock reads,
-    // tens of nanoseconds against microseconds of work), so single-point callers learn too.
-    const int level = policy == HybridPolicy::Masks ? HybridController::kUnbounded : controller.level;
-    const Clock::time_point t0 = Clock::now();
-    std::uint32_t units = 0;
-    if (policy == HybridPolicy::Rays) {
-      std::fill(words.begin(), words.end(), 0);
-      store(engine.template all_rays<Bits>(), row_undecided);
-    } else {
-      const MaskBudget budget{controller.rays_per_unit, HybridController::allowance(level, n)};
-      HybridOutcome<Bits> outcome;
-      const MaskBudget* limit = level == HybridController::kUnbounded ? nullptr : &budget;
-      const Mask<Bits> sure = traverse_certain<Bits, false>(bvh, engine, frame, nullptr, limit, outcome);
-      store(sure, words);
-      store(outcome.undecided, row_undecided);
-      units = outcome.units;
-    }
-    const Clock::time_point t1 = Clock::now();
-    const std::size_t cast =
-        embree.occlude_selected(engine.rays(), std::span<const Frame>(&frame, 1), row_undecided, words.size(), words);
-    if (policy == HybridPolicy::Adaptive) {
-      controller.record(level, 1, nanoseconds(t0, t1), units, nanoseconds(t1, Clock::now()), cast);
-    }
+    run_task<Bits, false>(bvh, engine, embree, std::span<const Receiver>(&receiver, 1), 0, 1, policy,
+                          controllers.local(), words, nullptr);
   });
 }
 

@@ -19,8 +19,7 @@
 // which one pays is measured, not predicted: a thread keeps the running average of the wall time
 // per receiver of each level on its recent tasks (each level tried once on a thread's first five
 // tasks), follows the cheapest, and gives every sixteenth task to a neighbouring level
-// (alternately above and below; one that cost over twice the best only once its figure is
-// older than 128 tasks), so that a change of geometry
+// (alternately above and below), so that a change of geometry
 // along the Morton order is noticed (neighbouring receivers see the same geometry: what the last
 // tasks cost is the best guess for the next). The prices are ratios of sums over recent tasks
 // (each decayed by 0.9 a task), so a task that casts a handful of rays weighs little.
@@ -63,7 +62,6 @@ struct HybridController {
   float rays_per_unit = 0.5f;   // price of one unit of mask work in Embree rays (measured)
   double cost[kLevels] = {};    // ns per receiver of each allowance level, running average (0: not tried)
   int level = 0;                // the level of the next task
-  std::uint64_t last_tried[kLevels] = {};  // the task each level last ran
   std::uint64_t tasks = 0;
   // Decayed sums of the prices' measurements: mask time and units, Embree time and rays.
   double mask_ns = 0.0, mask_units = 0.0, ray_ns = 0.0, rays = 0.0;
@@ -87,7 +85,7 @@ class HybridControllers;
 
 /// The mask of one receiver by the auto method, on the calling thread, into `words`
 /// (mask_words of N): for the single-point API. Uses the calling thread's controller's price.
-void hybrid_mask_one(const Bvh& bvh, const lut::MaskEngine& engine, const EmbreeScene& embree, const Frame& frame,
+void hybrid_mask_one(const Bvh& bvh, const lut::MaskEngine& engine, const EmbreeScene& embree, const Receiver& receiver,
                      HybridPolicy policy, HybridControllers& controllers, std::span<std::uint64_t> words);
 
 /// One HybridController per thread, kept by an engine across calls (opaque: TBB's storage).

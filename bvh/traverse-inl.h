@@ -10,17 +10,17 @@
 
 // Two modes, one loop (template parameter Certain):
 //  - pure (the paper's method, `bvh`): the cumulative mask ORs triangle_mask, bit for bit brute's;
-//  - certain (`auto`): the cumulative mask ORs the *sure* masks of triangle_certain, the rays the
+//  - certain (`auto`): the cumulative mask ORs the *sure* masks of certain_finish, the rays the
 //    *maybe* masks add are collected as undecided, and a MaskBudget stops the masks when they
 //    no longer pay: the caller casts the undecided rays (every open ray of a stopped receiver)
 //    with Embree (bvh/hybrid.h). Node spheres are grown by g, as the triangles' are, so that a
 //    node's mask still holds every maybe bit below it (the nesting of lut/sphere_test.h holds for
 //    spheres grown by the same length), and the box culls use a slack of at least g.
 
-// Steps 1-4 of the certain kernels (lut/kernels-inl.h, certain_setup) for every triangle of a
-// leaf at once, lane = triangle, with certain_setup's expressions in its order (glm's dot is
-// (x + y) + z, its cross the usual three differences), so every lane's floats are that
-// function's. Returns the lanes that pass; their set-up is in `out` (struct of arrays).
+// Steps 1-4 of the certain kernels (lut/kernels-inl.h, CertainSetup) for every triangle of a
+// leaf at once, lane = triangle, in the expressions of Frame::to_local and glm (dot is
+// (x + y) + z, cross the usual three differences). Returns the lanes that pass; their set-up is
+// in `out` (struct of arrays).
 struct alignas(32) CertainBlock {
   float ax[8], ay[8], az[8], bx[8], by[8], bz[8], cx[8], cy[8], cz[8];
   float nx[8], ny[8], nz[8], ux[8], uy[8], uz[8], sd[8], ox[8], oy[8], oz[8];

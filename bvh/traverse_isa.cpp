@@ -32,7 +32,6 @@ using lut::kTriangleMargin;
 using lut::make_sphere_test;
 using lut::occupied_clusters;
 using lut::origin_triangle_distance2;
-using lut::kClusterSlack;
 
 #include "lut/lanes-inl.h"
 #include "lut/kernels-inl.h"

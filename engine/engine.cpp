@@ -331,7 +331,7 @@ void Engine::mask_one(const Receiver& receiver, std::span<std::uint64_t> words) 
   const Frame frame = impl.rays.frame(receiver);
   const lut::MaskEngine& engine = impl.masks_for(impl.reach(receiver));
   if (impl.options.method == Method::Auto) {
-    bvh::hybrid_mask_one(*impl.geometry->bvh(), engine, *impl.geometry->embree(), frame, impl.options.hybrid,
+    bvh::hybrid_mask_one(*impl.geometry->bvh(), engine, *impl.geometry->embree(), receiver, impl.options.hybrid,
                          *impl.hybrid, words);
     return;
   }

@@ -435,8 +435,8 @@ template <int Bits>
   return out;
 }
 
-// Steps 1-4 of triangle_certain, and what they leave to the rest: the triangle in the receiver
-// frame. (triangle_mask's step 5, the exact distance, is only a cull: a triangle farther than r
+// Steps 1-4 of the certain kernels (bvh/traverse-inl.h, certain_setup_block, for a whole leaf
+// in lanes), and what they leave to the rest: the triangle in the receiver frame. (triangle_mask's step 5, the exact distance, is only a cull: a triangle farther than r
 // reaches no sample point, so its planes' masks are empty anyway; the certain kernels leave it
 // out, and the leaf set-up in lanes with it.)
 struct CertainSetup {
@@ -447,41 +447,9 @@ struct CertainSetup {
   glm::vec3 centre;   // the bounding sphere's centre, receiver frame, world units
 };
 
-// Steps 1-4 for one triangle; false when it blocks nothing, even maybe. Every expression is the
-// one certain_setup_block (bvh/traverse-inl.h) evaluates in lanes, in the same order, so both
-// give the same floats.
-[[nodiscard]] inline bool certain_setup(const KernelContext& ctx, const PackedTriangle& tri, const Frame& frame,
-                                        float g_world, CertainSetup& s) {
-  // 1. Into the receiver frame; all three vertices below the grown horizon.
-  s.a = frame.to_local(tri.v0);
-  s.b = frame.to_local(tri.v1);
-  s.c = frame.to_local(tri.v2);
-  if (s.a.z <= -g_world && s.b.z <= -g_world && s.c.z <= -g_world) return false;
-  const float inv_r = ctx.inv_radius;
-  const float g = g_world * inv_r;
-  s.a *= inv_r;
-  s.b *= inv_r;
-  s.c *= inv_r;
-  // 3. The plane (degenerate: Embree finds no hit, and the surface rule blocks nothing either).
-  s.n = glm::cross(s.b - s.a, s.c - s.a);
-  const float n_length = std::sqrt(glm::dot(s.n, s.n));
-  if (!(n_length > 0.0f && n_length <= std::numeric_limits<float>::max())) return false;
-  s.unit = s.n / n_length;
-  s.signed_d = glm::dot(s.unit, s.a);
-  const float d = std::abs(s.signed_d);
-  if (!(d <= 1.0f + g)) return false;
-  // 2. Facing, decided only away from the plane (there |dot(w, n^)| >= d >= g for every ray that
-  //    reaches it, so Embree's filter decides the same way).
-  if (!(d < g) && !tri.two_sided && !(glm::dot(s.n, -s.a) > 0.0f)) return false;
-  // 4. The influence sphere, with r grown by g.
-  s.centre = frame.to_local(tri.centre);
-  const float reach = tri.radius + ctx.radius + g_world;
-  return glm::dot(s.centre, s.centre) <= reach * reach;
-}
-
 /// The sure and maybe masks of one triangle at the receiver of `frame`, for the clusters of
 /// `allowed`; `g_world` is 2 delta in world units (bvh/traverse-inl.h computes it per receiver),
-/// after steps 1-4 (certain_setup or certain_setup_block) have let it through.
+/// after steps 1-4 (certain_setup_block) have let it through.
 template <int Bits>
 [[nodiscard]] inline CertainMasks<Bits> certain_finish(const KernelContext& ctx, const PackedTriangle& tri,
                                                        const CertainSetup& s, const Frame& frame, float g_world,
@@ -565,12 +533,3 @@ template <int Bits>
   return out;
 }
 
-/// The sure and maybe masks of one triangle (steps 1-6b), as the leaf kernels compute them.
-template <int Bits>
-[[nodiscard]] inline CertainMasks<Bits> triangle_certain(const KernelContext& ctx, const PackedTriangle& tri,
-                                                         const Frame& frame, float g_world, std::uint64_t allowed,
-                                                         KernelCounters* counters) {
-  CertainSetup s;
-  if (!certain_setup(ctx, tri, frame, g_world, s)) return {};
-  return certain_finish<Bits>(ctx, tri, s, frame, g_world, allowed, counters);
-}

@@ -59,32 +59,6 @@ struct Lanes {
   static M both(M a, M b) { return static_cast<M>(a & b); }
   static std::uint64_t bits(M m) { return m; }
 };
-struct Lanes8 {
-  static constexpr int kWidth = 8;
-  using F = __m256;
-  using M = __m256;  // all-ones or all-zeros per lane
-  static F load(const float* p) { return _mm256_load_ps(p); }
-  static F set(float x) { return _mm256_set1_ps(x); }
-  static F add(F a, F b) { return _mm256_add_ps(a, b); }
-  static F sub(F a, F b) { return _mm256_sub_ps(a, b); }
-  static F mul(F a, F b) { return _mm256_mul_ps(a, b); }
-  static F div(F a, F b) { return _mm256_div_ps(a, b); }
-  static F sqrt(F a) { return _mm256_sqrt_ps(a); }
-  static F abs(F a) { return _mm256_andnot_ps(_mm256_set1_ps(-0.0f), a); }
-  static M ge(F a, F b) { return _mm256_cmp_ps(a, b, _CMP_GE_OQ); }
-  static M le(F a, F b) { return _mm256_cmp_ps(a, b, _CMP_LE_OQ); }
-  static M gt(F a, F b) { return _mm256_cmp_ps(a, b, _CMP_GT_OQ); }
-  static M lt(F a, F b) { return _mm256_cmp_ps(a, b, _CMP_LT_OQ); }
-  static M both(M a, M b) { return _mm256_and_ps(a, b); }
-  static M either(M a, M b) { return _mm256_or_ps(a, b); }
-  static M not_(M a) { return _mm256_xor_ps(a, _mm256_castsi256_ps(_mm256_set1_epi32(-1))); }
-  static M from_bits(std::uint32_t b) {
-    const __m256i bit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
-    return _mm256_castsi256_ps(_mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(static_cast<int>(b)), bit), bit));
-  }
-  static void store(float* p, F a) { _mm256_store_ps(p, a); }
-  static std::uint64_t bits(M m) { return static_cast<std::uint32_t>(_mm256_movemask_ps(m)); }
-};
 
 #elif EXAO_KERNEL_LANES == 8
 struct Lanes {
@@ -103,6 +77,28 @@ struct Lanes {
   static M both(M a, M b) { return _mm256_and_ps(a, b); }
   static std::uint64_t bits(M m) { return static_cast<std::uint32_t>(_mm256_movemask_ps(m)); }
 };
+#elif EXAO_KERNEL_LANES == 4
+struct Lanes {
+  static constexpr int kWidth = 4;
+  using F = __m128;
+  using M = __m128;  // all-ones or all-zeros per lane
+  static F load(const float* p) { return _mm_load_ps(p); }
+  static F set(float x) { return _mm_set1_ps(x); }
+  static F add(F a, F b) { return _mm_add_ps(a, b); }
+  static F sub(F a, F b) { return _mm_sub_ps(a, b); }
+  static F mul(F a, F b) { return _mm_mul_ps(a, b); }
+  static F min(F a, F b) { return _mm_min_ps(a, b); }
+  static F max(F a, F b) { return _mm_max_ps(a, b); }
+  static M ge(F a, F b) { return _mm_cmpge_ps(a, b); }
+  static M le(F a, F b) { return _mm_cmple_ps(a, b); }
+  static M both(M a, M b) { return _mm_and_ps(a, b); }
+  static std::uint64_t bits(M m) { return static_cast<std::uint32_t>(_mm_movemask_ps(m)); }
+};
+#else
+#error "EXAO_KERNEL_LANES must be 1, 4, 8 or 16 (include lut/kernel_target.h first)"
+#endif
+
+#if EXAO_KERNEL_LANES >= 8
 struct Lanes8 {
   static constexpr int kWidth = 8;
   using F = __m256;
@@ -130,22 +126,6 @@ struct Lanes8 {
   static std::uint64_t bits(M m) { return static_cast<std::uint32_t>(_mm256_movemask_ps(m)); }
 };
 #elif EXAO_KERNEL_LANES == 4
-struct Lanes {
-  static constexpr int kWidth = 4;
-  using F = __m128;
-  using M = __m128;  // all-ones or all-zeros per lane
-  static F load(const float* p) { return _mm_load_ps(p); }
-  static F set(float x) { return _mm_set1_ps(x); }
-  static F add(F a, F b) { return _mm_add_ps(a, b); }
-  static F sub(F a, F b) { return _mm_sub_ps(a, b); }
-  static F mul(F a, F b) { return _mm_mul_ps(a, b); }
-  static F min(F a, F b) { return _mm_min_ps(a, b); }
-  static F max(F a, F b) { return _mm_max_ps(a, b); }
-  static M ge(F a, F b) { return _mm_cmpge_ps(a, b); }
-  static M le(F a, F b) { return _mm_cmple_ps(a, b); }
-  static M both(M a, M b) { return _mm_and_ps(a, b); }
-  static std::uint64_t bits(M m) { return static_cast<std::uint32_t>(_mm_movemask_ps(m)); }
-};
 struct Lanes8 {
   static constexpr int kWidth = 4;
   using F = __m128;
@@ -172,6 +152,4 @@ struct Lanes8 {
   static void store(float* p, F a) { _mm_store_ps(p, a); }
   static std::uint64_t bits(M m) { return static_cast<std::uint32_t>(_mm_movemask_ps(m)); }
 };
-#else
-#error "EXAO_KERNEL_LANES must be 1, 4, 8 or 16 (include lut/kernel_target.h first)"
 #endif
