@@ -9,25 +9,11 @@
 #include <string>
 #include <vector>
 
+#include "bake/options.h"
 #include "core/error.h"
 #include "core/scene.h"
 
 namespace exao::bake {
-
-/// How a triangle soup becomes a glTF model.
-struct ConvertOptions {
-  /// 0: positions and indices only (enough for vertex bakes). Otherwise the side, in texels, of
-  /// the AO texture the box-projection atlas (TEXCOORD_0) is laid out for.
-  int atlas_size = 0;
-  /// Texels kept free around every atlas chart, so that the map's dilation margin of one chart
-  /// never reaches another; >= 2 * margin + 2 keeps bilinear filtering clean too.
-  int atlas_padding = 10;
-  /// exao bake --ground (applies to every input, glTF too): an occluding plane added to scene()
-  /// only, never to the model, so it gets no receivers and is never written out
-  /// (core/ground_plane.h). At `ground_height` along +Y, else at the model's lowest point.
-  bool ground = false;
-  std::optional<float> ground_height;
-};
 
 class Document {
  public:
