@@ -3,10 +3,11 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <map>
 #include <limits>
 #include <numeric>
 #include <unordered_map>
+
+#include "core/position_key.h"
 
 namespace exao::bake {
 namespace {
@@ -164,9 +165,10 @@ Result<AtlasMesh> box_atlas(std::span<const glm::vec3> positions, std::span<cons
   // the chart's: so no chart folds onto itself, however the surface winds.
   std::vector<std::uint32_t> weld(positions.size());
   {
-    std::map<std::array<float, 3>, std::uint32_t> first;
+    std::unordered_map<PositionKey, std::uint32_t, PositionKeyHash> first;
+    first.reserve(positions.size());
     for (std::size_t v = 0; v < positions.size(); ++v) {
-      weld[v] = first.try_emplace({positions[v].x, positions[v].y, positions[v].z}, static_cast<std::uint32_t>(v)).first->second;
+      weld[v] = first.try_emplace(position_key(positions[v]), static_cast<std::uint32_t>(v)).first->second;
     }
   }
   std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> edge_triangles;

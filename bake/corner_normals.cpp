@@ -1,19 +1,12 @@
 #include "bake/corner_normals.h"
 
-#include <bit>
 #include <cmath>
 #include <unordered_map>
 
+#include "core/position_key.h"
+
 namespace exao::bake {
 namespace {
-
-struct PositionHash {
-  std::size_t operator()(const glm::vec3& p) const {
-    std::uint64_t h = 1469598103934665603ull;
-    for (int k = 0; k < 3; ++k) h = (h ^ std::bit_cast<std::uint32_t>(p[k])) * 1099511628211ull;
-    return static_cast<std::size_t>(h);
-  }
-};
 
 glm::dvec3 area_normal(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) {
   return glm::cross(glm::dvec3(b) - glm::dvec3(a), glm::dvec3(c) - glm::dvec3(a));
@@ -48,10 +41,10 @@ std::vector<glm::vec3> corner_normals(std::span<const glm::vec3> corner_position
     face[t] = area_normal(corner_positions[3 * t], corner_positions[3 * t + 1], corner_positions[3 * t + 2]);
   }
   // Corners grouped by position: each group lists the triangles that meet there.
-  std::unordered_map<glm::vec3, std::vector<std::uint32_t>, PositionHash> at;
+  std::unordered_map<PositionKey, std::vector<std::uint32_t>, PositionKeyHash> at;
   at.reserve(corner_positions.size());
   for (std::size_t c = 0; c < corner_positions.size(); ++c) {
-    at[corner_positions[c]].push_back(static_cast<std::uint32_t>(c / 3));
+    at[position_key(corner_positions[c])].push_back(static_cast<std::uint32_t>(c / 3));
   }
   const double min_cos = std::cos(static_cast<double>(crease_degrees) * 3.14159265358979323846 / 180.0);
   std::vector<glm::vec3> out(corner_positions.size(), glm::vec3(0.0f));
@@ -60,7 +53,7 @@ std::vector<glm::vec3> corner_normals(std::span<const glm::vec3> corner_position
     const double own_length = glm::length(own);
     if (!(own_length > 0.0)) continue;
     glm::dvec3 sum(0.0);
-    for (const std::uint32_t t : at[corner_positions[c]]) {
+    for (const std::uint32_t t : at[position_key(corner_positions[c])]) {
       const double length = glm::length(face[t]);
       if (length > 0.0 && glm::dot(face[t], own) >= min_cos * length * own_length) sum += face[t];
     }

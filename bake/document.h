@@ -9,32 +9,18 @@
 #include <string>
 #include <vector>
 
+#include "bake/options.h"
 #include "core/error.h"
 #include "core/scene.h"
 
 namespace exao::bake {
-
-/// How a triangle soup becomes a glTF model.
-struct ConvertOptions {
-  /// 0: positions and indices only (enough for vertex bakes). Otherwise the side, in texels, of
-  /// the AO texture the box-projection atlas (TEXCOORD_0) is laid out for.
-  int atlas_size = 0;
-  /// Texels kept free around every atlas chart, so that the map's dilation margin of one chart
-  /// never reaches another; >= 2 * margin + 2 keeps bilinear filtering clean too.
-  int atlas_padding = 10;
-  /// exao bake --ground (applies to every input, glTF too): an occluding plane added to scene()
-  /// only, never to the model, so it gets no receivers and is never written out
-  /// (core/ground_plane.h). At `ground_height` along +Y, else at the model's lowest point.
-  bool ground = false;
-  std::optional<float> ground_height;
-};
 
 class Document {
  public:
   struct Impl;  // tinygltf's model and the walk of its default scene; internal to exao_bake
 
   /// `name_or_path`: a built-in scene's name, a .gltf/.glb file (told by its extension,
-  /// case-insensitive), or another format core/load_scene.h reads (converted with `convert`).
+  /// case-insensitive), or another format io/load_scene.h reads (converted with `convert`).
   /// Fails with one line naming the file and the problem.
   [[nodiscard]] static Result<Document> open(const std::string& name_or_path, const ConvertOptions& convert = {});
 

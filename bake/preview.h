@@ -3,11 +3,11 @@
 // pixel's primary ray finds the visible triangle (Embree), and the AO there is interpolated from
 // the baked vertex values or sampled bilinearly from the baked map, not computed again.
 
-#include "bake/bake.h"
+#include "bake/result.h"
 #include "bake/document.h"
 #include "core/camera.h"
 #include "core/embree_reference.h"
-#include "core/image_io.h"
+#include "io/image_io.h"
 
 namespace exao::bake {
 

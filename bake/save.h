@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "bake/bake.h"
+#include "bake/result.h"
 #include "bake/document.h"
 #include "core/error.h"
 

@@ -1,6 +1,5 @@
 #include "bake/scene_to_gltf.h"
 
-#include <bit>
 #include <map>
 #include <unordered_map>
 #include <utility>
@@ -9,17 +8,10 @@
 
 #include "bake/box_atlas.h"
 #include "bake/gltf_access.h"
+#include "core/position_key.h"
 
 namespace exao::bake {
 namespace {
-
-struct PositionHash {
-  std::size_t operator()(const glm::vec3& p) const {
-    std::uint64_t h = 1469598103934665603ull;
-    for (int k = 0; k < 3; ++k) h = (h ^ std::bit_cast<std::uint32_t>(p[k])) * 1099511628211ull;
-    return static_cast<std::size_t>(h);
-  }
-};
 
 // A camera node at the camera's pose: glTF cameras look down local -Z with +Y up.
 void add_camera(tinygltf::Model& model, const Camera& camera, float diagonal) {
@@ -59,11 +51,11 @@ Result<tinygltf::Model> scene_to_gltf(const Scene& scene, const ConvertOptions& 
   for (const auto& [key, members] : groups) {
     std::vector<glm::vec3> positions;
     std::vector<std::uint32_t> indices;
-    std::unordered_map<glm::vec3, std::uint32_t, PositionHash> weld;
+    std::unordered_map<PositionKey, std::uint32_t, PositionKeyHash> weld;
     for (const std::uint32_t t : members) {
       for (int k = 0; k < 3; ++k) {
         const glm::vec3 p = scene.vertices[3 * t + static_cast<std::size_t>(k)];
-        auto [it, added] = weld.emplace(p, static_cast<std::uint32_t>(positions.size()));
+        auto [it, added] = weld.emplace(position_key(p), static_cast<std::uint32_t>(positions.size()));
         if (added) positions.push_back(p);
         indices.push_back(it->second);
       }

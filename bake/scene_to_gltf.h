@@ -4,7 +4,7 @@
 
 #include <tiny_gltf.h>
 
-#include "bake/document.h"
+#include "bake/options.h"
 #include "core/error.h"
 #include "core/scene.h"
 

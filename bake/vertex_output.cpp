@@ -4,6 +4,7 @@
 #include <map>
 
 #include "bake/gltf_access.h"
+#include "bake/labels.h"
 
 namespace exao::bake {
 namespace {
@@ -39,11 +40,6 @@ Result<int> ao_accessor(tinygltf::Model& model, const tinygltf::Primitive& prim,
 }
 
 }  // namespace
-
-std::string mesh_label(const tinygltf::Model& model, int mesh) {
-  const std::string& name = model.meshes[static_cast<std::size_t>(mesh)].name;
-  return name.empty() ? "mesh " + std::to_string(mesh) : "mesh '" + name + "'";
-}
 
 Result<std::size_t> write_vertex_ao(tinygltf::Model& model, const ModelWalk& walk,
                                     std::span<const std::vector<float>> part_vertex_ao, VertexChannel channel,

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "bake/bake.h"
+#include "bake/options.h"
 #include "bake/model_walk.h"
 #include "core/error.h"
 
@@ -22,8 +22,5 @@ namespace exao::bake {
 [[nodiscard]] Result<std::size_t> write_vertex_ao(tinygltf::Model& model, const ModelWalk& walk,
                                                   std::span<const std::vector<float>> part_vertex_ao,
                                                   VertexChannel channel, std::vector<std::string>& notes);
-
-/// "mesh 'Name'" or "mesh 3" when it has no name: how messages name a mesh.
-[[nodiscard]] std::string mesh_label(const tinygltf::Model& model, int mesh);
 
 }  // namespace exao::bake

@@ -24,8 +24,8 @@
 #include "cli/progress_bar.h"
 #include "core/agreement.h"
 #include "core/grazing.h"
-#include "core/image_io.h"
-#include "core/load_scene.h"
+#include "io/image_io.h"
+#include "io/load_scene.h"
 #include "engine/engine.h"
 
 namespace exao::cli {
@@ -240,7 +240,7 @@ void print_agreement(const char* mine, const char* reference, const Agreement& a
   if (a.classified) {
     std::printf(" (%zu receivers differ only by grazing rays, %zu by a ray that does not graze)", a.receivers_grazing, a.ao_differ_not_grazing);
   }
-  std::printf("; mean |dAO| %.5f, max %.4f\n", a.sum_abs_ao / double(std::max<std::size_t>(1, a.receivers)), a.max_abs_ao);
+  std::printf("; mean |dAO| %.5f, max %.4f\n", a.ao.sum_abs / double(std::max<std::size_t>(1, a.receivers)), a.ao.max_abs);
 }
 
 // --compare: the second engine on the same receivers, and how its answers agree with the bake's

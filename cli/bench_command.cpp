@@ -17,8 +17,9 @@
 #include "cli/common_options.h"
 #include "cli/lod_options.h"
 #include "cli/progress_bar.h"
+#include "core/ao_error.h"
 #include "core/atomic_write.h"
-#include "core/image_io.h"
+#include "io/image_io.h"
 #include "core/isa.h"
 #include "core/pixel_receivers.h"
 #include "engine/engine.h"
@@ -365,8 +366,8 @@ int run_bench(const BenchOptions& options, const Invocation&) {
         run.speedup_vs_embree = runs[0].seconds / run.seconds;
         compare(results[0], results[c], run);
         const AoError vs_embree = ao_error(results[0], results[c]);
-        run.bias = vs_embree.bias;
-        run.identical_8bit = vs_embree.identical_8bit;
+        run.bias = vs_embree.bias();
+        run.identical_8bit = vs_embree.identical_8bit_share();
         if (configs[c].lod >= 0) {
           // LOD's own error: against raster without LOD, same masks and instruction set.
           for (std::size_t b = 0; b < configs.size(); ++b) {
@@ -376,10 +377,10 @@ int run_bench(const BenchOptions& options, const Invocation&) {
             }
             const AoError own = ao_error(results[b], results[c]);
             run.lod_speedup_vs_raster = runs[b].seconds / run.seconds;
-            run.lod_mean_abs_vs_raster = own.mean_abs;
+            run.lod_mean_abs_vs_raster = own.mean_abs();
             run.lod_max_abs_vs_raster = own.max_abs;
-            run.lod_bias_vs_raster = own.bias;
-            run.lod_identical_8bit_vs_raster = own.identical_8bit;
+            run.lod_bias_vs_raster = own.bias();
+            run.lod_identical_8bit_vs_raster = own.identical_8bit_share();
           }
         }
         print_bench_row(run, options.stats);

@@ -21,7 +21,7 @@
 #include "cli/common_options.h"
 #include "cli/progress_bar.h"
 #include "core/atomic_write.h"
-#include "core/image_io.h"
+#include "io/image_io.h"
 #include "engine/engine.h"
 #include "ssao/compare.h"
 #include "ssao/contact_sheet.h"
@@ -196,7 +196,7 @@ int run_compare(const CompareCommandOptions& o) {
   greys.reserve(main.methods.size() + 1);
   heats.reserve(main.methods.size());
   greys.push_back(ssao::grey_image(main.exact, main.view.valid, main.view.width, main.view.height));
-  std::vector<ssao::ErrorStats> stats;
+  std::vector<AoError> stats;
   for (const ssao::MethodResult& m : main.methods) {
     const std::string name = slug(ssao::method_name(m.method));
     if (auto ok = write_ao(main.view, m.ao, dir / name); !ok) return report(ok.error());
@@ -209,7 +209,7 @@ int run_compare(const CompareCommandOptions& o) {
   const ssao::RgbImage legend = ssao::heat_map_legend(main.view.width, main.view.height);
   cells.push_back({"EXACT N=" + std::to_string(rays->count()), &greys[0], &legend});
   for (std::size_t i = 0; i < main.methods.size(); ++i) {
-    cells.push_back({std::string(ssao::method_label(main.methods[i].method)) + " MAE " + fixed(stats[i].mean_abs, 3), &greys[i + 1], &heats[i]});
+    cells.push_back({std::string(ssao::method_label(main.methods[i].method)) + " MAE " + fixed(stats[i].mean_abs(), 3), &greys[i + 1], &heats[i]});
   }
   if (auto ok = write_rgb(ssao::contact_sheet(cells, 4, 320), (dir / "contact-sheet.png").string()); !ok) return report(ok.error());
 
@@ -245,17 +245,17 @@ int run_compare(const CompareCommandOptions& o) {
   j["methods"] = nlohmann::json::array();
   for (std::size_t i = 0; i < main.methods.size(); ++i) {
     const ssao::MethodResult& m = main.methods[i];
-    const ssao::ErrorStats& s = stats[i];
+    const AoError& s = stats[i];
     nlohmann::json row{{"name", ssao::method_name(m.method)}, {"label", ssao::method_label(m.method)},
-                       {"mean_abs", s.mean_abs}, {"bias", s.bias}, {"rmse", s.rmse}, {"within_255", s.within_255},
-                       {"within_16", s.within_16}, {"seconds", m.seconds},
+                       {"mean_abs", s.mean_abs()}, {"bias", s.bias()}, {"rmse", s.rmse()}, {"within_255", s.within_255_share()},
+                       {"within_16", s.within_16_share()}, {"seconds", m.seconds},
                        {"map_seconds", m.map_seconds}};
     if (m.method == ssao::Method::SdSvao || m.method == ssao::Method::RtSvao) row["flagged_pixels"] = m.flagged;
     const auto e = stereo_of(i + 1);
     if (e) row["stereo"] = stereo_json(*e);
     j["methods"].push_back(row);
-    md << "| " << ssao::method_label(m.method) << " | " << fixed(s.mean_abs, 4) << " | " << (s.bias >= 0 ? "+" : "") << fixed(s.bias, 4)
-       << " | " << fixed(s.rmse, 4) << " | " << percent(s.within_255) << " | " << percent(s.within_16) << " | " << fixed(m.seconds, 3) << " |"
+    md << "| " << ssao::method_label(m.method) << " | " << fixed(s.mean_abs(), 4) << " | " << (s.bias() >= 0 ? "+" : "") << fixed(s.bias(), 4)
+       << " | " << fixed(s.rmse(), 4) << " | " << percent(s.within_255_share()) << " | " << percent(s.within_16_share()) << " | " << fixed(m.seconds, 3) << " |"
        << (e ? " " + fixed(e->mean, 4) + " |" : "") << "\n";
   }
   if (pairs) j["stereo"] = {{"ipd", *o.stereo}, {"pixels_compared", pairs->left.size()}, {"left_pixels", pairs->left_visible}};

@@ -53,28 +53,6 @@ Result<std::optional<raster::LodOptions>> parse_lod(const LodCliOptions& options
   return std::optional<raster::LodOptions>{out};
 }
 
-AoError ao_error(const MaskSet& reference, const MaskSet& masks) {
-  AoError e;
-  const std::size_t n = reference.size();
-  if (n == 0) return e;
-  // The rounding of core/image_io's PNG writer.
-  const auto quantise = [](float ao) { return std::lround(std::clamp(ao, 0.0f, 1.0f) * 255.0f); };
-  double sum_abs = 0.0, sum = 0.0;
-  std::size_t same = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const float a = reference.ao(i), b = masks.ao(i);
-    const double d = double(b) - double(a);
-    sum += d;
-    sum_abs += std::abs(d);
-    e.max_abs = std::max(e.max_abs, std::abs(d));
-    same += quantise(a) == quantise(b);
-  }
-  e.mean_abs = sum_abs / double(n);
-  e.bias = sum / double(n);
-  e.identical_8bit = double(same) / double(n);
-  return e;
-}
-
 std::string describe_lod(const engine::LodLevels& levels) {
   const raster::LodScene& lod = *levels.levels;
   const raster::LodOptions& options = levels.options;

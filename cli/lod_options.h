@@ -10,7 +10,6 @@
 #include <CLI/CLI.hpp>
 
 #include "core/error.h"
-#include "core/mask_set.h"
 #include "engine/engine.h"
 #include "raster/lod.h"
 
@@ -30,17 +29,6 @@ void add_lod_options(CLI::App& app, LodCliOptions& options);
 /// engine checks the ranges); errors name the option (lod_eps1, lod_filter), which report() prints
 /// as its flag.
 [[nodiscard]] Result<std::optional<raster::LodOptions>> parse_lod(const LodCliOptions& options);
-
-/// How AO from `masks` differs from AO from `reference` (same receivers): mean and max |dAO|,
-/// the mean signed difference (AO - AO_reference: > 0 is brighter) and the share of receivers
-/// whose AO is the same after 8-bit quantisation (the PNG preview's rounding).
-struct AoError {
-  double mean_abs = 0.0;
-  double max_abs = 0.0;
-  double bias = 0.0;
-  double identical_8bit = 1.0;
-};
-[[nodiscard]] AoError ao_error(const MaskSet& reference, const MaskSet& masks);
 
 /// One line describing the levels: eps, ranges, triangle counts, build time.
 [[nodiscard]] std::string describe_lod(const engine::LodLevels& lod);

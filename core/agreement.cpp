@@ -24,8 +24,7 @@ Agreement& Agreement::operator+=(const Agreement& o) {
   receivers_grazing += o.receivers_grazing;
   ao_differ_not_grazing += o.ao_differ_not_grazing;
   largest_closeness = std::max(largest_closeness, o.largest_closeness);
-  sum_abs_ao += o.sum_abs_ao;
-  max_abs_ao = std::max(max_abs_ao, o.max_abs_ao);
+  ao += o.ao;
   return *this;
 }
 
@@ -51,9 +50,7 @@ Agreement compare_masks(const MaskSet& reference, const MaskSet& masks, std::spa
       a.rays_differ += differing.size();
       const bool same_ao = reference.blocked_count(r) == masks.blocked_count(r);
       a.identical_ao += same_ao;
-      const double d = std::abs(double(reference.ao(r)) - double(masks.ao(r)));
-      a.sum_abs_ao += d;
-      a.max_abs_ao = std::max(a.max_abs_ao, d);
+      a.ao.add(masks.ao(r), reference.ao(r));
       if (differing.empty()) continue;
       ++a.receivers_differ;
       if (!grazing) continue;

@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <span>
 
+#include "core/ao_error.h"
 #include "core/grazing.h"
 #include "core/mask_set.h"
 #include "core/receiver_frame.h"
@@ -26,7 +27,7 @@ struct Agreement {
   std::size_t receivers_grazing = 0;        // receivers that differ only in grazing rays
   std::size_t ao_differ_not_grazing = 0;    // receivers whose AO differs by a ray that does not graze
   double largest_closeness = 0.0;           // the largest GrazingTest::closeness among grazing differing rays
-  double sum_abs_ao = 0.0, max_abs_ao = 0.0;  // |AO - AO_reference|
+  AoError ao;                               // AO against AO_reference
 
   [[nodiscard]] double ray_share() const { return rays ? 1.0 - double(rays_differ) / double(rays) : 1.0; }
   [[nodiscard]] double identical_share() const { return receivers ? double(identical_ao) / double(receivers) : 1.0; }

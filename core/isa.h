@@ -2,8 +2,8 @@
 // exao::Isa: the instruction sets exao's hot kernels (masks, sphere and node tests, traversal)
 // are compiled for, all in one build, and the run-time choice among them (the way Embree picks
 // its kernels). Every level computes the same bits: the kernels evaluate the same expression
-// tree with separate IEEE multiplies and adds, no FMA (tests/isa_test.cpp and the equality tests
-// run on every level the machine has).
+// tree with separate IEEE multiplies and adds, no FMA (tests/isa_equality_test.cpp
+// runs the equality tests on every level the machine has).
 //
 //   scalar  one float lane, no intrinsics: the twin the vector kernels are checked against;
 //   sse2    4 lanes, what every x86-64 has;

@@ -4,13 +4,15 @@
 // pattern's N (a multiple of 32) uses the first N bits and every bit >= N stays zero, which every
 // operation here preserves (none of them sets a bit that neither operand had, except ones(n)).
 //
-// The instruction set is chosen here, once, for all of exao's mask and sample kernels:
-//   EXAO_SIMD_AVX512  AVX-512 F/BW/VL (and VPOPCNTDQ when present) — 16 float lanes;
-//   EXAO_SIMD_AVX2    AVX2 — 8 float lanes;
-//   EXAO_SIMD_SSE2    SSE2, which every x86-64 has (the portable build) — 4 float lanes;
-//   none              the scalar twin (also forced with -DEXAO_FORCE_SCALAR, the CMake option
+// The instruction set the kernels run is chosen at run time, in core/isa.h (one copy of each
+// kernel per level, lut/kernel_target.h; the engine reports the one it runs). What is chosen
+// here, at compile time, is only how the mask word operations below are written in this
+// translation unit (a kernel copy compiled for a level sees that level's macros):
+//   EXAO_SIMD_AVX512  AVX-512 F/BW/VL 512-bit registers (and VPOPCNTDQ when present);
+//   EXAO_SIMD_AVX2    AVX2 256-bit registers;
+//   EXAO_SIMD_SSE2    SSE2, which every x86-64 has;
+//   none              64-bit words (also forced with -DEXAO_FORCE_SCALAR, the CMake option
 //                     EXAO_FORCE_SCALAR of lut/).
-// Mask operations themselves use 512- or 256-bit registers when there are some, else words.
 // Every vectorised operation has a scalar twin in exao::scalar, and tests/mask_test.cpp checks
 // that both agree bit for bit.
 
@@ -38,7 +40,8 @@
 
 namespace exao {
 
-/// Name of the instruction set the kernels were compiled for: "avx512", "avx2" or "scalar".
+/// The instruction set this translation unit's mask word operations were compiled for: "avx512",
+/// "avx2", "sse2" or "scalar". Not the level the kernels run: that is core/isa.h's choice.
 [[nodiscard]] constexpr const char* simd_name() {
 #if defined(EXAO_SIMD_AVX512)
   return "avx512";

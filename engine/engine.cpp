@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <mutex>
+#include <ranges>
 #include <string>
 
 #include <tbb/task_arena.h>
@@ -344,11 +345,8 @@ void Engine::mask_one(const Receiver& receiver, std::span<std::uint64_t> words) 
     } else {
       // brute's definition, without the grid a batch builds: every triangle.
       const lut::TriangleSet& triangles = *impl.geometry->triangles();
-      const Mask<Bits> all = engine.all_rays<Bits>();
-      for (std::uint32_t t = 0; t < triangles.size(); ++t) {
-        mask |= engine.triangle_mask<Bits>(triangles, t, frame);
-        if (mask == all) break;  // nothing left to block
-      }
+      mask = lut::brute_mask<Bits>(engine, triangles, frame,
+                                   std::views::iota(std::uint32_t{0}, static_cast<std::uint32_t>(triangles.size())));
     }
     std::copy_n(mask.words.begin(), count, words.begin());
   });

@@ -117,18 +117,12 @@ MaskSet occlusion(const MaskEngine& engine, const TriangleSet& triangles, std::s
   ProgressCounter counter(progress, receivers.size());
   with_mask_bits(engine.samples(), [&](auto bits) {
     constexpr int Bits = decltype(bits)::value;
-    const Mask<Bits> all = engine.all_rays<Bits>();
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, receivers.size(), 16),
                       [&](const tbb::blocked_range<std::size_t>& range) {
                         const FlushDenormals flush;
                         for (std::size_t r = range.begin(); r != range.end(); ++r) {
                           const Frame frame = engine.rays().frame(receivers[r]);
-                          Mask<Bits> mask;
-                          for (const std::uint32_t t : candidates(frame.origin)) {
-                            mask |= engine.triangle_mask<Bits>(triangles, t, frame);
-                            if (mask == all) break;  // nothing left to block: more ORs change nothing
-                          }
-                          store(mask, masks.row(r));
+                          store(brute_mask<Bits>(engine, triangles, frame, candidates(frame.origin)), masks.row(r));
                         }
                         counter.add(range.size());
                       });

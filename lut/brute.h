@@ -3,6 +3,7 @@
 // OR of triangle_mask over every triangle of the scene. The definition the accelerated backends
 // must reproduce bit for bit (DESIGN.md section 8).
 
+#include <cstdint>
 #include <span>
 
 #include "core/mask_set.h"
@@ -12,6 +13,21 @@
 #include "lut/triangle_set.h"
 
 namespace exao::lut {
+
+/// One receiver's brute mask: the OR of engine.triangle_mask over `candidates` (triangle indices,
+/// any range of them), in their order, stopping once every ray is blocked (more ORs change
+/// nothing). The one loop of brute_occlusion and of the engine's single-point brute query.
+template <int Bits, class Candidates>
+[[nodiscard]] Mask<Bits> brute_mask(const MaskEngine& engine, const TriangleSet& triangles, const Frame& frame,
+                                    const Candidates& candidates) {
+  const Mask<Bits> all = engine.all_rays<Bits>();
+  Mask<Bits> mask;
+  for (const std::uint32_t t : candidates) {
+    mask |= engine.triangle_mask<Bits>(triangles, t, frame);
+    if (mask == all) break;
+  }
+  return mask;
+}
 
 /// One mask per receiver, in the receivers' order: OR over all triangles t of
 /// engine.triangle_mask(triangles, t, frame). A uniform grid over the triangles' influence

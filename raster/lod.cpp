@@ -3,7 +3,6 @@
 #include <array>
 #include <chrono>
 #include <cmath>
-#include <cstring>
 #include <numeric>
 #include <unordered_map>
 
@@ -23,6 +22,8 @@
 #include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/LindstromTurk_placement.h>
 #include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Polyhedral_envelope_filter.h>
 #include <CGAL/Surface_mesh_simplification/edge_collapse.h>
+
+#include "core/position_key.h"
 
 namespace exao::raster {
 namespace {
@@ -52,26 +53,6 @@ struct Components {
     if (a != b) parent[std::max(a, b)] = std::min(a, b);
   }
 };
-
-struct VertexKey {
-  std::array<std::uint32_t, 3> bits;
-  bool operator==(const VertexKey&) const = default;
-};
-struct VertexHash {
-  std::size_t operator()(const VertexKey& k) const {
-    std::uint64_t h = 1469598103934665603ull;
-    for (const std::uint32_t b : k.bits) h = (h ^ b) * 1099511628211ull;
-    return static_cast<std::size_t>(h);
-  }
-};
-
-VertexKey key_of(const glm::vec3& v) {
-  // +0.0 and -0.0 are the same point.
-  const glm::vec3 u = v + glm::vec3(0.0f);
-  VertexKey k;
-  std::memcpy(k.bits.data(), &u, sizeof(k.bits));
-  return k;
-}
 
 // One simplifiable component as a mesh. Each is simplified on its own: its envelope holds only
 // its own faces, which keeps the envelope's queries cheap (one envelope around a whole scene
@@ -157,12 +138,12 @@ Result<LodChain> build_lod_chain(const Scene& scene, float eps1, int levels, Lod
   std::vector<std::uint32_t> corner(3 * n);
   std::vector<glm::vec3> welded;
   {
-    std::unordered_map<VertexKey, std::uint32_t, VertexHash> ids[2];
+    std::unordered_map<PositionKey, std::uint32_t, PositionKeyHash> ids[2];
     for (std::size_t t = 0; t < n; ++t) {
       auto& map = ids[scene.two_sided[t] ? 1 : 0];
       for (int c = 0; c < 3; ++c) {
         const glm::vec3& v = scene.vertices[3 * t + static_cast<std::size_t>(c)];
-        const auto [it, added] = map.try_emplace(key_of(v), static_cast<std::uint32_t>(welded.size()));
+        const auto [it, added] = map.try_emplace(position_key(v), static_cast<std::uint32_t>(welded.size()));
         if (added) welded.push_back(v);
         corner[3 * t + static_cast<std::size_t>(c)] = it->second;
       }

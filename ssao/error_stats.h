@@ -1,23 +1,16 @@
 #pragma once
-// exao::ssao::ErrorStats: how far a method's AO is from the exact AO on the same pixels.
+// exao::ssao::error_stats: how far a method's AO is from the exact AO on the same pixels, as the
+// one AO-error metric (core/ao_error.h).
 
-#include <cstddef>
 #include <cstdint>
 #include <span>
 
+#include "core/ao_error.h"
+
 namespace exao::ssao {
 
-struct ErrorStats {
-  std::size_t pixels = 0;      // pixels compared (those that see a triangle)
-  double mean_abs = 0.0;       // mean |AO - exact|
-  double bias = 0.0;           // mean AO - exact: > 0 lighter than exact (missed occlusion)
-  double rmse = 0.0;
-  double within_255 = 0.0;     // share of pixels with |AO - exact| <= 1/255
-  double within_16 = 0.0;      // ... <= 1/16
-};
-
-/// Over the pixels where valid is non-zero; all three spans the same size.
-[[nodiscard]] ErrorStats error_stats(std::span<const float> ao, std::span<const float> exact,
-                                     std::span<const std::uint8_t> valid);
+/// Over the pixels where valid is non-zero (AoError::count of them); all three spans the same size.
+[[nodiscard]] AoError error_stats(std::span<const float> ao, std::span<const float> exact,
+                                  std::span<const std::uint8_t> valid);
 
 }  // namespace exao::ssao

@@ -7,6 +7,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include "raster/draw_triangle.h"
 #include "raster/gbuffer.h"
 #include "raster/projection.h"
 #include "raster/rasterizer.h"
@@ -15,34 +16,6 @@
 
 namespace exao::ssao {
 namespace {
-
-// As raster/gbuffer.cpp draws a triangle: clip vertices, and 1/w as an affine function of the
-// screen position, 1/w = a px + b py + c, from the plane through the clip vertices. Kept in step
-// with it so the first fragment is the G-buffer's.
-struct DrawTriangle {
-  std::array<raster::ClipVertex, 3> clip;
-  double a = 0.0, b = 0.0, c = 0.0;
-  bool valid = false;
-};
-
-DrawTriangle prepare(const Scene& scene, const raster::Projection& projection, std::size_t t) {
-  DrawTriangle d;
-  for (int k = 0; k < 3; ++k) d.clip[static_cast<std::size_t>(k)] = projection.to_clip(scene.vertices[3 * t + static_cast<std::size_t>(k)]);
-  if (d.clip[0].w < projection.near && d.clip[1].w < projection.near && d.clip[2].w < projection.near) return d;
-  const glm::dvec3 p0(d.clip[0].x, d.clip[0].y, d.clip[0].w);
-  const glm::dvec3 p1(d.clip[1].x, d.clip[1].y, d.clip[1].w);
-  const glm::dvec3 p2(d.clip[2].x, d.clip[2].y, d.clip[2].w);
-  const glm::dvec3 n = glm::cross(p1 - p0, p2 - p0);
-  const double e = glm::dot(n, p0);
-  const double scale = glm::length(n) * std::max({glm::length(p0), glm::length(p1), glm::length(p2)});
-  if (!(std::abs(e) > 1e-12 * scale)) return d;
-  const double w = projection.width, h = projection.height;
-  d.a = 2.0 * n.x / (w * e);
-  d.b = -2.0 * n.y / (h * e);
-  d.c = (-n.x + n.y + n.z) / e;
-  d.valid = true;
-  return d;
-}
 
 struct TileFragment {
   std::uint32_t pixel;
@@ -59,15 +32,7 @@ FragmentBuffer rasterize_fragments(const Scene& scene, const Camera& camera, int
   const double near = raster::kNearFraction * raster::scene_scale(scene, camera.eye);
   const raster::Projection projection = raster::Projection::make(camera, width, height, near);
   const raster::TileGrid grid(width, height);
-  const raster::TileBins bins = raster::bin_items(grid, scene.triangle_count(), [&](std::size_t t, auto&& emit) {
-    const DrawTriangle d = prepare(scene, projection, t);
-    if (!d.valid) return;
-    const raster::ScreenPolygon polygon = raster::make_screen_polygon(projection, d.clip);
-    if (polygon.empty()) return;
-    for (int ty = grid.row_of(polygon.y0); ty <= grid.row_of(polygon.y1); ++ty) {
-      for (int tx = grid.column_of(polygon.x0); tx <= grid.column_of(polygon.x1); ++tx) emit(ty * grid.columns + tx);
-    }
-  });
+  const raster::TileBins bins = raster::bin_triangles(grid, scene, projection);
 
   // Each tile owns its pixels: its fragments are gathered, then sorted by pixel and depth.
   std::vector<std::vector<TileFragment>> tiles(static_cast<std::size_t>(grid.count()));
@@ -77,7 +42,7 @@ FragmentBuffer rasterize_fragments(const Scene& scene, const Camera& camera, int
     std::vector<TileFragment>& mine = tiles[static_cast<std::size_t>(tile)];
     for (std::size_t i = bins.offset[static_cast<std::size_t>(tile)]; i < bins.offset[static_cast<std::size_t>(tile) + 1]; ++i) {
       const std::uint32_t t = bins.items[i];
-      const DrawTriangle d = prepare(scene, projection, t);
+      const raster::DrawTriangle d = raster::prepare_triangle(scene, projection, t);
       raster::PolygonRaster raster;
       if (!raster.setup(raster::make_screen_polygon(projection, d.clip))) continue;
       const int y_end = std::min(ty1, raster.y1());

@@ -17,9 +17,12 @@
 
 #include "bake/bake.h"
 #include "bake/document.h"
-#include "core/load_scene.h"
+#include "core/builtin_scenes.h"
+#include "core/isa.h"
+#include "io/load_scene.h"
 #include "engine/engine.h"
 #include "engine/morton.h"
+#include "lut/mask_engine.h"
 #include "tests/test_support.h"
 
 namespace exao {
@@ -121,6 +124,32 @@ TEST(Engine, RenderQueryBakeAndTheApiGiveTheSameAo) {
     ASSERT_EQ((*again)[i], baked->ao[i]) << "vertex receiver " << i;
     ASSERT_EQ(baked_api[i], baked->ao[i]) << "vertex receiver " << i;
   }
+}
+
+// The instruction set is named once: the level forced with the isa option (exao --isa) is the
+// one the engine's kernels run, and the name EngineInfo::simd reports for it (api/engine.cpp
+// reports isa_name of the engine's mask engine; tests/CMakeLists.txt's api_errors_isa_* check
+// the API under EXAO_ISA). Every level this CPU runs, and the default.
+TEST(Engine, TheIsaOptionIsTheLevelTheKernelsRun) {
+  const Scene scene = make_plane_pair();
+  for (const Isa isa : supported_isas()) {
+    engine::Options options = options_for();
+    options.isa = isa;
+    for (const engine::Method method : {engine::Method::Bvh, engine::Method::Brute, engine::Method::Raster}) {
+      options.method = method;
+      const engine::Engine e = build(scene, options, method == engine::Method::Raster ? engine::Receivers::Pixels
+                                                                                       : engine::Receivers::Points);
+      ASSERT_NE(e.mask_engine(), nullptr);
+      EXPECT_STREQ(isa_name(e.mask_engine()->isa()), isa_name(isa)) << engine::method_name(method);
+    }
+  }
+  const engine::Engine by_default = build(scene, options_for(), engine::Receivers::Points);
+  EXPECT_EQ(by_default.mask_engine()->isa(), default_isa());
+  api::Options options;
+  options.samples = kSamples;
+  api::Result<api::Engine> through_api = api::Engine::open("plane-pair", options);
+  ASSERT_TRUE(through_api) << through_api.error().message;
+  EXPECT_STREQ(through_api->info().simd, isa_name(default_isa()));
 }
 
 TEST(Engine, BatchesLargerThanAChunkKeepTheCallersOrder) {

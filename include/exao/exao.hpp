@@ -377,7 +377,8 @@ struct EngineInfo {
   Vec3 bounds_hi;
   int table_resolution = 0;        // look-up table cells per side (0: no table)
   std::size_t table_bytes = 0;     // memory of the look-up table
-  const char* simd = "";           // the instruction set the mask kernels run: "scalar", "sse2", "sse4",
+  const char* simd = "";           // the instruction set the mask kernels run (chosen at run time, not
+                                   // the one the library was compiled for): "scalar", "sse2", "sse4",
                                    // "avx2" or "avx512" (the CPU's best, or what EXAO_ISA says);
                                    // "none" for Backend::Embree, which runs no mask kernel
 };
