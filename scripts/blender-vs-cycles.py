@@ -3,7 +3,7 @@ per-vertex bake of Conference (or any OBJ) into a float color attribute. Not a t
 both times, end to end (each includes Blender's own data access).
 
     blender -b --factory-startup --python-use-system-env --python scripts/blender-vs-cycles.py -- \
-        ../shared/scenes/Conference/conference.obj [SAMPLES] [DISTANCE_PERCENT] [--screenshot FILE]
+        ../shared/scenes/Conference/conference.obj [SAMPLES] [DISTANCE_PERCENT] [--npz FILE]
 
 Both bake per vertex (the mesh is shaded smooth, so every corner's normal is its vertex's) with
 the same distance (a percentage of the mesh's bounding-box diagonal, in Blender units) and the
@@ -25,7 +25,7 @@ args = sys.argv[sys.argv.index("--") + 1:]
 path = args[0]
 samples = int(args[1]) if len(args) > 1 and not args[1].startswith("--") else 128
 percent = float(args[2]) if len(args) > 2 and not args[2].startswith("--") else 5.0
-screenshot = args[args.index("--screenshot") + 1] if "--screenshot" in args else None
+npz = args[args.index("--npz") + 1] if "--npz" in args else None
 
 here = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(here, "..", "blender"))
@@ -52,6 +52,10 @@ diagonal = float(np.linalg.norm(co.max(0).astype(np.float64) - co.min(0)))
 distance = percent * 0.01 * diagonal
 print(f"distance {percent}% of the diagonal = {distance:.4g} Blender units, {samples} rays per vertex")
 
+# Both bakes start from an evaluated depsgraph, as in an interactive session (the first
+# evaluation after the import, about 0.2 s, would otherwise be charged to whichever runs first).
+bpy.context.view_layer.update()
+
 # --- exao: the add-on's operator ------------------------------------------------------------
 s = bpy.context.scene.exao_bake
 s.target, s.attribute, s.samples = "COLOR_ATTRIBUTE", "exao_AO", samples
@@ -64,7 +68,10 @@ assert attr.domain == "POINT"
 exao_ao = np.empty(len(attr.data) * 4, np.float32)
 attr.data.foreach_get("color", exao_ao)
 exao_ao = exao_ao.reshape(-1, 4)[:, 0]
-print(f"exao add-on ({exao_bake.backend_name()}): {exao_seconds:.2f} s")
+split = dict(exao_bake.last_timings)
+split["operator (undo step, reports)"] = exao_seconds - sum(split.values())
+print(f"exao add-on ({exao_bake.backend_name()}): {exao_seconds:.2f} s = "
+      + " + ".join(f"{k} {v:.2f} s" for k, v in split.items()))
 
 # --- Cycles: bake type AO into a color attribute ----------------------------------------------
 scene = bpy.context.scene
@@ -89,24 +96,9 @@ print(f"Cycles AO bake: {cycles_seconds:.2f} s")
 print(f"exao is {cycles_seconds / exao_seconds:.1f}x faster; mean AO exao {exao_ao.mean():.4f}, Cycles {cyc.mean():.4f}, "
       f"mean |difference| {np.abs(exao_ao - cyc).mean():.4f}")
 
-if screenshot:
-    # A viewport-like picture of the exao attribute: Workbench, flat lighting, attribute colors.
-    scene.render.engine = "BLENDER_WORKBENCH"
-    scene.display.shading.light = "FLAT"
-    scene.display.shading.color_type = "VERTEX"
-    mesh.color_attributes.active_color = mesh.color_attributes["exao_AO"]
-    cam = bpy.data.objects.new("cam", bpy.data.cameras.new("cam"))
-    scene.collection.objects.link(cam)
-    scene.camera = cam
-    # Conference's interior view (the README's exao render: eye -900,350,-950 -> 600,150,300, Y up),
-    # in Blender's Z-up frame as the OBJ importer maps it (x, y, z) -> (x, -z, y).
-    from mathutils import Vector
-    eye, target = Vector((-900, 950, 350)), Vector((600, -300, 150))
-    cam.location = eye
-    cam.rotation_euler = (target - eye).to_track_quat("-Z", "Y").to_euler()
-    cam.data.angle = 1.2
-    cam.data.clip_end = 10 * diagonal
-    scene.render.resolution_x, scene.render.resolution_y = 960, 600
-    scene.render.filepath = screenshot
-    bpy.ops.render.render(write_still=True)
-    print(f"-> {screenshot}")
+if npz:
+    # Per vertex: positions, normals (as the add-on reads them) and both AO values, to compare.
+    e = exao_bake.EvaluatedMesh(obj, bpy.context.evaluated_depsgraph_get())
+    np.savez(npz, vertices=e.vertices, faces=e.faces, normals=e.vertex_normals(), exao=exao_ao, cycles=cyc,
+             distance=distance, samples=samples)
+    print(f"-> {npz}")
