@@ -49,6 +49,7 @@ co = co.reshape(-1, 3)
 diagonal = float(np.linalg.norm(co.max(0).astype(np.float64) - co.min(0)))
 
 scene = bpy.context.scene
+scene.view_settings.view_transform = "Standard"  # the attribute's values as they are (not Filmic's curve)
 scene.render.engine = "BLENDER_WORKBENCH"  # the Render tab's shortest panel list: the add-on's panel shows
 s = scene.exao_bake
 s.target, s.attribute, s.samples = "COLOR_ATTRIBUTE", "exao_AO", samples
@@ -68,7 +69,7 @@ def view_and_shoot():
             space.shading.color_type = "VERTEX"  # "Attribute": the active color attribute
             space.overlay.show_overlays = False
             space.show_gizmo = False
-            space.lens = 16
+            space.lens = 18
             space.clip_start, space.clip_end = 1.0, 10 * diagonal
             # Conference's interior view (the README's exao render: eye -900,350,-950 -> 600,150,300,
             # Y up), in Blender's Z-up frame as the OBJ importer maps it: (x, y, z) -> (x, -z, y).
@@ -85,6 +86,13 @@ def view_and_shoot():
 
 def shoot_and_quit():
     window = bpy.context.window_manager.windows[0]
+    # The Render tab's own panels fill the editor: scroll down to the add-on's panel, the last.
+    for area in window.screen.areas:
+        if area.type == "PROPERTIES":
+            region = next(r for r in area.regions if r.type == "WINDOW")
+            with bpy.context.temp_override(window=window, screen=window.screen, area=area, region=region):
+                for _ in range(4):
+                    bpy.ops.view2d.scroll_down(page=True)
     with bpy.context.temp_override(window=window, screen=window.screen):
         # Draw the window now (timers alone do not redraw it), then read it back.
         bpy.ops.wm.redraw_timer(type="DRAW_WIN_SWAP", iterations=2)
