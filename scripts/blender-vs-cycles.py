@@ -130,6 +130,7 @@ for name, m in (("vertices whose first triangle has an area", defined),
               f"mean |difference| {np.abs(exao_ao - cyc)[m].mean():.4f}")
 
 if npz:
-    np.savez(npz, vertices=world.vertices, faces=world.faces, normals=world.vertex_normals(), exao=exao_ao, cycles=cyc,
+    normals = exao_bake.EvaluatedMesh(obj, bpy.context.evaluated_depsgraph_get()).vertex_normals()  # evaluated anew
+    np.savez(npz, vertices=world.vertices, faces=world.faces, normals=normals, exao=exao_ao, cycles=cyc,
              distance=distance, samples=samples)
     print(f"-> {npz}")

@@ -2,7 +2,7 @@
 # Installs what the Python module (python/) and the Blender add-on (blender/) need, from Debian
 # bookworm's packages: pybind11 2.10, numpy and pytest for the system Python 3.11 (/usr/bin/python3),
 # and Blender 3.4, which runs that same Python; xvfb and xauth give Blender a display without a
-# GPU (xvfb-run, Mesa's llvmpipe) for scripts/blender-vs-cycles.py's viewport screenshot.
+# GPU (xvfb-run, Mesa's llvmpipe) for scripts/blender-viewport-shot.py's viewport screenshot.
 # Idempotent; run as root.
 set -euo pipefail
 

@@ -382,19 +382,40 @@ class EXAO_OT_bake_ao(bpy.types.Operator):
             shared = None if settings.only_local else occluders_of(scene_vertices, scene_faces)
             timings["data access"] += clock() - started
             self.report({"INFO"}, f"exao: baking {len(targets)} object(s) with the {backend_name()}")
-            wm.progress_begin(0, 100)
-            for k, obj in enumerate(targets):
-                t = clock()
+            # Every target's receivers read before anything is written: an evaluated mesh is only
+            # valid until the depsgraph next updates.
+            jobs = []
+            for obj in targets:
                 mesh_eval = evaluated[obj.name]
                 occluders = shared or occluders_of(*occluder_arrays([mesh_eval]))
+                if settings.target == "COLOR_ATTRIBUTE":
+                    domain, points, normals = vertex_receivers(mesh_eval)
+                    expected = len(obj.data.vertices) if domain == "POINT" else len(obj.data.loops)
+                    if len(points) != expected:
+                        raise ValueError(f"{obj.name}: its modifiers change the number of vertices; apply them to bake a color attribute")
+                    jobs.append((obj, occluders, points, normals, None, domain))
+                else:
+                    points, normals, texels = texel_receivers(mesh_eval, settings.image_size)
+                    jobs.append((obj, occluders, points, normals, texels, None))
+            del evaluated
+            timings["data access"] += clock() - started
+            self.report({"INFO"}, f"exao: baking {len(targets)} object(s) with the {backend_name()}")
+            wm.progress_begin(0, 100)
+            for k, (obj, occluders, points, normals, texels, domain) in enumerate(jobs):
 
                 def progress(done, total, k=k):
-                    wm.progress_update(100.0 * (k + (done / total if total else 1.0)) / len(targets))
+                    wm.progress_update(100.0 * (k + (done / total if total else 1.0)) / len(jobs))
 
-                if settings.target == "COLOR_ATTRIBUTE":
-                    self.bake_attribute(obj, mesh_eval, occluders, samples, radius, offset, settings, progress, timings, t)
+                t = clock()
+                keys = None if texels is None else texels.astype(np.uint64)
+                ao = occluders.ao(points, normals, keys, samples, radius, offset, settings.falloff, progress)
+                timings["exao"] += clock() - t
+                t = clock()
+                if texels is None:
+                    self.write_attribute(obj, domain, ao, settings)
                 else:
-                    self.bake_image(obj, mesh_eval, occluders, samples, radius, offset, settings, progress, timings, t)
+                    self.write_image(obj, texels, ao, settings)
+                timings["write-back"] += clock() - t
         except (ValueError, OSError, RuntimeError, subprocess.CalledProcessError) as e:
             self.report({"ERROR"}, f"exao: {getattr(e, 'stderr', None) or e}")
             return {"CANCELLED"}
@@ -405,18 +426,8 @@ class EXAO_OT_bake_ao(bpy.types.Operator):
         self.report({"INFO"}, "exao: " + ", ".join(f"{k} {v:.2f} s" for k, v in timings.items()))
         return {"FINISHED"}
 
-    def bake_attribute(self, obj, mesh_eval, occluders, samples, radius, offset, settings, progress, timings, t):
-        clock = time.perf_counter
-        domain, points, normals = vertex_receivers(mesh_eval)
+    def write_attribute(self, obj, domain, ao, settings):
         mesh = obj.data
-        expected = len(mesh.vertices) if domain == "POINT" else len(mesh.loops)
-        if len(points) != expected:
-            raise ValueError(f"{obj.name}: its modifiers change the number of vertices; apply them to bake a color attribute")
-        timings["data access"] += clock() - t
-        t = clock()
-        ao = occluders.ao(points, normals, None, samples, radius, offset, settings.falloff, progress)
-        timings["exao"] += clock() - t
-        t = clock()
         attr = mesh.color_attributes.get(settings.attribute)
         if attr is not None and (attr.domain != domain or attr.data_type != "FLOAT_COLOR"):
             mesh.color_attributes.remove(attr)
@@ -428,18 +439,10 @@ class EXAO_OT_bake_ao(bpy.types.Operator):
         attr.data.foreach_set("color", rgba.ravel())
         mesh.color_attributes.active_color = attr
         mesh.update()
-        timings["write-back"] += clock() - t
         self.report({"INFO"}, f"exao: {obj.name}: {len(ao)} {'vertices' if domain == 'POINT' else 'face corners'} -> {attr.name}")
 
-    def bake_image(self, obj, mesh_eval, occluders, samples, radius, offset, settings, progress, timings, t):
-        clock = time.perf_counter
+    def write_image(self, obj, texels, ao, settings):
         size = settings.image_size
-        points, normals, texels = texel_receivers(mesh_eval, size)
-        timings["data access"] += clock() - t
-        t = clock()
-        ao = occluders.ao(points, normals, texels.astype(np.uint64), samples, radius, offset, settings.falloff, progress)
-        timings["exao"] += clock() - t
-        t = clock()
         values = np.ones(size * size, np.float32)
         filled = np.zeros(size * size, bool)
         values[texels] = ao
@@ -457,7 +460,6 @@ class EXAO_OT_bake_ao(bpy.types.Operator):
         image.pixels.foreach_set(rgba.ravel())
         image.update()
         image.pack()
-        timings["write-back"] += clock() - t
         self.report({"INFO"}, f"exao: {obj.name}: {len(texels)} texels -> image {image.name}")
 
 
