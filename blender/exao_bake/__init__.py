@@ -22,6 +22,7 @@ import os
 import shutil
 import subprocess
 import tempfile
+import time
 
 import bpy
 import numpy as np
@@ -32,6 +33,13 @@ except ImportError:  # a Blender with its own Python: use the exao command inste
     _exao_module = None
 
 
+# The last bake's time split, seconds: reading Blender's data ("data access": evaluated meshes,
+# receivers, occluder arrays), the AO itself ("exao": the scene's BVH and the rays), writing the
+# attribute or image ("write-back"). Reported in the status bar; scripts/blender-vs-cycles.py
+# prints it.
+last_timings = {}
+
+
 def backend_name():
     if _exao_module is not None:
         return "exao Python module"
@@ -40,44 +48,99 @@ def backend_name():
 
 
 # --- Geometry from Blender -----------------------------------------------------------------------
+#
+# Everything is read with foreach_get into numpy buffers of the property's own type (float32 for
+# positions and normals, uint32 for a loop triangle's vertices): with any other dtype Blender
+# converts item by item, several times slower. Each object is read once per bake, from its
+# evaluated mesh (obj_eval.data: modifiers applied, no copy); only a mesh whose corner normals may
+# differ from its vertex normals is copied (to_mesh), since split normals are computed into it.
 
 
-def _world_mesh(obj, depsgraph):
-    """The evaluated mesh of `obj` (modifiers applied) in world space: positions (n, 3) float32,
-    triangles (m, 3) uint32, the Mesh (caller frees it with obj_eval.to_mesh_clear()), obj_eval."""
-    obj_eval = obj.evaluated_get(depsgraph)
-    mesh = obj_eval.to_mesh()
-    mesh.calc_loop_triangles()
-    n = len(mesh.vertices)
-    co = np.empty(n * 3, np.float32)
-    mesh.vertices.foreach_get("co", co)
+def _matrix(obj_eval):
+    """The object's world matrix (4 x 4 float64), or None when it is the identity."""
     m = np.array(obj_eval.matrix_world, np.float64)
-    world = (co.reshape(n, 3).astype(np.float64) @ m[:3, :3].T + m[:3, 3]).astype(np.float32)
-    tris = np.empty(len(mesh.loop_triangles) * 3, np.uint32)
-    mesh.loop_triangles.foreach_get("vertices", tris)
-    return world, tris.reshape(-1, 3), mesh, obj_eval
+    return None if np.array_equal(m, np.eye(4)) else m
 
 
-def _normal_matrix(obj_eval):
-    m = np.array(obj_eval.matrix_world, np.float64)[:3, :3]
-    return np.linalg.inv(m).T
+def _to_world(co, m):
+    return co if m is None else (co.astype(np.float64) @ m[:3, :3].T + m[:3, 3]).astype(np.float32)
 
 
-def occluders(context, only=None):
-    """World-space triangles of every visible mesh object (or only `only`): (vertices, faces)."""
-    depsgraph = context.evaluated_depsgraph_get()
-    objects = [only] if only is not None else [o for o in context.view_layer.objects if o.type == "MESH" and o.visible_get()]
-    verts, faces, base = [], [], 0
-    for obj in objects:
-        world, tris, _, obj_eval = _world_mesh(obj, depsgraph)
-        obj_eval.to_mesh_clear()
-        if len(tris):
-            verts.append(world)
-            faces.append(tris + base)
-            base += len(world)
-    if not faces:
+def _normals_to_world(n, m):
+    return n if m is None else (n.astype(np.float64) @ np.linalg.inv(m[:3, :3])).astype(np.float32)
+
+
+class EvaluatedMesh:
+    """One object's evaluated mesh (modifiers applied) in world space, read once: positions
+    (n, 3) float32 and triangles (m, 3) uint32."""
+
+    def __init__(self, obj, depsgraph):
+        self.obj = obj
+        self.obj_eval = obj.evaluated_get(depsgraph)
+        self.mesh = self.obj_eval.data
+        self.mesh.calc_loop_triangles()
+        self.matrix = _matrix(self.obj_eval)
+        n = len(self.mesh.vertices)
+        co = np.empty(n * 3, np.float32)
+        self.mesh.vertices.foreach_get("co", co)
+        self.vertices = _to_world(co.reshape(n, 3), self.matrix)
+        tris = np.empty(len(self.mesh.loop_triangles) * 3, np.uint32)
+        self.mesh.loop_triangles.foreach_get("vertices", tris)
+        self.faces = tris.reshape(-1, 3)
+
+    def corner_normals_are_vertex_normals(self):
+        """True when Blender's corner normals are its vertex normals by construction: every face
+        smooth, no auto smooth, no custom normals. Otherwise the caller compares them."""
+        me = self.mesh
+        if me.has_custom_normals or me.use_auto_smooth:
+            return False
+        smooth = np.empty(len(me.polygons), bool)
+        me.polygons.foreach_get("use_smooth", smooth)
+        return bool(smooth.all())
+
+    def vertex_normals(self):
+        n = len(self.mesh.vertices)
+        vn = np.empty(n * 3, np.float32)
+        self.mesh.vertices.foreach_get("normal", vn)
+        return _normals_to_world(vn.reshape(n, 3), self.matrix)
+
+    def corners(self, uv=False):
+        """Per face corner: vertex index (int32), normal (split, world space), and the active UV
+        map's coordinates when uv; triangles as corner indices (m, 3) int32. Split normals are
+        computed into a copy of the evaluated mesh (to_mesh), never into the depsgraph's."""
+        me = self.obj_eval.to_mesh()
+        try:
+            me.calc_loop_triangles()
+            me.calc_normals_split()
+            loops = len(me.loops)
+            ln = np.empty(loops * 3, np.float32)
+            me.loops.foreach_get("normal", ln)
+            lv = np.empty(loops, np.int32)
+            me.loops.foreach_get("vertex_index", lv)
+            tl = np.empty(len(me.loop_triangles) * 3, np.uint32)
+            me.loop_triangles.foreach_get("loops", tl)
+            uvs = None
+            if uv:
+                if not me.uv_layers.active:
+                    raise ValueError(f"{self.obj.name}: has no UV map to bake an image on")
+                uvs = np.empty(loops * 2, np.float32)
+                me.uv_layers.active.data.foreach_get("uv", uvs)
+                uvs = uvs.reshape(loops, 2)
+        finally:
+            self.obj_eval.to_mesh_clear()
+        return lv, _normals_to_world(ln.reshape(loops, 3), self.matrix), tl.reshape(-1, 3).astype(np.int64), uvs
+
+
+def occluder_arrays(evaluated):
+    """World-space triangles of these EvaluatedMesh objects, one array pair: (vertices, faces)."""
+    parts = [e for e in evaluated if len(e.faces)]
+    if not parts:
         raise ValueError("no visible mesh with faces to occlude")
-    return np.concatenate(verts), np.concatenate(faces)
+    if len(parts) == 1:
+        return parts[0].vertices, parts[0].faces
+    bases = np.cumsum([0] + [len(e.vertices) for e in parts[:-1]]).astype(np.uint32)
+    return (np.concatenate([e.vertices for e in parts]),
+            np.concatenate([e.faces + b for e, b in zip(parts, bases)]))
 
 
 def scene_diagonal(vertices):
@@ -101,83 +164,82 @@ def with_ground(vertices, faces, diagonal):
 # --- Receivers -----------------------------------------------------------------------------------
 
 
-def vertex_receivers(obj, depsgraph):
+def vertex_receivers(evaluated):
     """Receivers for a color attribute: per vertex (domain POINT) when every face corner's normal
     equals its vertex's, else per face corner (CORNER) with the corner's (split) normal.
-    Returns (domain, points, normals, keys); keys are the vertex or corner index."""
-    world, _, mesh, obj_eval = _world_mesh(obj, depsgraph)
-    try:
-        n = len(mesh.vertices)
-        vn = np.empty(n * 3, np.float32)
-        mesh.vertices.foreach_get("normal", vn)
-        vn = vn.reshape(n, 3)
-        mesh.calc_normals_split()
-        loops = len(mesh.loops)
-        ln = np.empty(loops * 3, np.float32)
-        mesh.loops.foreach_get("normal", ln)
-        ln = ln.reshape(loops, 3)
-        lv = np.empty(loops, np.int64)
-        mesh.loops.foreach_get("vertex_index", lv)
-        nm = _normal_matrix(obj_eval)
-        if np.array_equal(ln, vn[lv]):
-            normals = (vn.astype(np.float64) @ nm.T).astype(np.float32)
-            return "POINT", world, normals, np.arange(n, dtype=np.uint64)
-        normals = (ln.astype(np.float64) @ nm.T).astype(np.float32)
-        return "CORNER", world[lv], normals, np.arange(loops, dtype=np.uint64)
-    finally:
-        obj_eval.to_mesh_clear()
+    Returns (domain, points, normals); the jitter key of each is its vertex or corner index."""
+    vn = evaluated.vertex_normals()
+    if evaluated.corner_normals_are_vertex_normals():
+        return "POINT", evaluated.vertices, vn
+    lv, ln, _, _ = evaluated.corners()
+    if np.array_equal(ln, vn[lv]):
+        return "POINT", evaluated.vertices, vn
+    return "CORNER", evaluated.vertices[lv], ln
 
 
-def texel_receivers(obj, depsgraph, size):
-    """Receivers at the centres of the texels that the active UV map's triangles cover (the
-    triangle that covers a texel centre last wins): (points, normals, texel indices y * size + x)."""
-    world, _, mesh, obj_eval = _world_mesh(obj, depsgraph)
-    try:
-        if not mesh.uv_layers.active:
-            raise ValueError(f"{obj.name}: has no UV map to bake an image on")
-        loops = len(mesh.loops)
-        uv = np.empty(loops * 2, np.float32)
-        mesh.uv_layers.active.data.foreach_get("uv", uv)
-        uv = uv.reshape(loops, 2)
-        mesh.calc_normals_split()
-        ln = np.empty(loops * 3, np.float32)
-        mesh.loops.foreach_get("normal", ln)
-        ln = (ln.reshape(loops, 3).astype(np.float64) @ _normal_matrix(obj_eval).T)
-        lv = np.empty(loops, np.int64)
-        mesh.loops.foreach_get("vertex_index", lv)
-        tl = np.empty(len(mesh.loop_triangles) * 3, np.int64)
-        mesh.loop_triangles.foreach_get("loops", tl)
-        tl = tl.reshape(-1, 3)
-    finally:
-        obj_eval.to_mesh_clear()
-    texel_of, points, normals = [], [], []
-    for corners in tl:
-        t = uv[corners].astype(np.float64) * size - 0.5  # texel centres at integer coordinates
-        lo = np.maximum(np.floor(t.min(axis=0)).astype(int), 0)
-        hi = np.minimum(np.ceil(t.max(axis=0)).astype(int), size - 1)
-        if (hi < lo).any():
-            continue
-        xs, ys = np.meshgrid(np.arange(lo[0], hi[0] + 1), np.arange(lo[1], hi[1] + 1))
-        px, py = xs.ravel().astype(np.float64), ys.ravel().astype(np.float64)
-        (x0, y0), (x1, y1), (x2, y2) = t
-        det = (y1 - y2) * (x0 - x2) + (x2 - x1) * (y0 - y2)
-        if det == 0:
-            continue
+# Triangles whose texel bounding box is larger than this are rasterised one at a time; the
+# others in batches of about this many candidate texels (bounded memory, no Python loop over
+# the many small triangles).
+_TEXELS_PER_BATCH = 1 << 22
+
+
+def _cover(t, lo, hi, tri_ids):
+    """The texel centres inside UV triangles t (k, 3, 2) (texel units, centres at integers) with
+    bounding boxes lo..hi (k, 2) inclusive: (triangle id, x, y, barycentrics (j, 3))."""
+    w = hi[:, 0] - lo[:, 0] + 1
+    counts = w * (hi[:, 1] - lo[:, 1] + 1)
+    which = np.repeat(np.arange(len(t)), counts)
+    local = np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
+    px = (lo[which, 0] + local % w[which]).astype(np.float64)
+    py = (lo[which, 1] + local // w[which]).astype(np.float64)
+    x0, y0 = t[which, 0, 0], t[which, 0, 1]
+    x1, y1 = t[which, 1, 0], t[which, 1, 1]
+    x2, y2 = t[which, 2, 0], t[which, 2, 1]
+    det = (y1 - y2) * (x0 - x2) + (x2 - x1) * (y0 - y2)
+    with np.errstate(divide="ignore", invalid="ignore"):
         b0 = ((y1 - y2) * (px - x2) + (x2 - x1) * (py - y2)) / det
         b1 = ((y2 - y0) * (px - x2) + (x0 - x2) * (py - y2)) / det
-        b2 = 1 - b0 - b1
-        inside = (b0 >= 0) & (b1 >= 0) & (b2 >= 0)
-        if not inside.any():
-            continue
-        b = np.stack([b0[inside], b1[inside], b2[inside]], axis=1)
-        p = world[lv[corners]].astype(np.float64)
-        points.append(b @ p)
-        normals.append(b @ ln[corners])
-        texel_of.append(ys.ravel()[inside] * size + xs.ravel()[inside])
-    if not points:
-        raise ValueError(f"{obj.name}: its UV map covers no texel centre of a {size} x {size} image")
-    return (np.concatenate(points).astype(np.float32), np.concatenate(normals).astype(np.float32),
-            np.concatenate(texel_of).astype(np.int64))
+    b2 = 1 - b0 - b1
+    inside = (det != 0) & (b0 >= 0) & (b1 >= 0) & (b2 >= 0)
+    return (tri_ids[which[inside]], px[inside].astype(np.int64), py[inside].astype(np.int64),
+            np.stack([b0[inside], b1[inside], b2[inside]], axis=1))
+
+
+def texel_receivers(evaluated, size):
+    """Receivers at the centres of the texels that the active UV map's triangles cover (the
+    triangle that covers a texel centre last wins): (points, normals, texel indices y * size + x)."""
+    lv, ln, tl, uv = evaluated.corners(uv=True)
+    t = uv[tl].astype(np.float64) * size - 0.5  # (m, 3, 2), texel centres at integer coordinates
+    lo = np.maximum(np.floor(t.min(axis=1)).astype(np.int64), 0)
+    hi = np.minimum(np.ceil(t.max(axis=1)).astype(np.int64), size - 1)
+    keep = np.nonzero((hi >= lo).all(axis=1))[0]
+    counts = np.prod(hi[keep] - lo[keep] + 1, axis=1)
+    found = []
+    big = counts > _TEXELS_PER_BATCH
+    for i in keep[big]:  # the few large triangles, each vectorised on its own
+        found.append(_cover(t[i:i + 1], lo[i:i + 1], hi[i:i + 1], np.array([i])))
+    small, small_counts = keep[~big], counts[~big]
+    batch = np.cumsum(small_counts) // _TEXELS_PER_BATCH
+    for b in np.unique(batch):
+        ids = small[batch == b]
+        found.append(_cover(t[ids], lo[ids], hi[ids], ids))
+    tri = np.concatenate([f[0] for f in found]) if found else np.empty(0, np.int64)
+    if not len(tri):
+        raise ValueError(f"{evaluated.obj.name}: its UV map covers no texel centre of a {size} x {size} image")
+    texel = np.concatenate([f[2] * size + f[1] for f in found])
+    bary = np.concatenate([f[3] for f in found])
+    # The last triangle (in the mesh's order) that covers a texel wins: sort by triangle, keep
+    # each texel's last occurrence.
+    order = np.argsort(tri, kind="stable")
+    tri, texel, bary = tri[order], texel[order], bary[order]
+    _, last_reversed = np.unique(texel[::-1], return_index=True)
+    pick = len(texel) - 1 - last_reversed
+    tri, texel, bary = tri[pick], texel[pick], bary[pick]
+    corners = tl[tri]  # (j, 3) corner indices
+    p = evaluated.vertices[lv[corners]].astype(np.float64)  # (j, 3, 3)
+    points = np.einsum("jk,jkd->jd", bary, p)
+    normals = np.einsum("jk,jkd->jd", bary, ln[corners].astype(np.float64))
+    return points.astype(np.float32), normals.astype(np.float32), texel
 
 
 def dilate(values, filled, size, margin):
@@ -207,23 +269,34 @@ def dilate(values, filled, size, margin):
 # --- AO: the module, or the exao command -------------------------------------------------------
 
 
-def compute_ao(vertices, faces, points, normals, keys, samples, radius, offset, falloff, progress=None):
-    """AO at the receivers: float32 (n,). radius and offset in scene units (float32)."""
-    if _exao_module is not None:
-        scene = _exao_module.Scene.from_arrays(vertices, faces)
-        return scene.ao(points, normals, keys=keys, samples=samples, radius=float(radius), offset=float(offset),
-                        falloff=falloff, progress=progress)
-    exe = shutil.which("exao")
-    if exe is None:
-        raise RuntimeError("exao: neither the exao Python module nor the exao command is installed")
-    with tempfile.TemporaryDirectory(prefix="exao-bake-") as tmp:
-        obj_path, pts_path, out_path = (os.path.join(tmp, f) for f in ("scene.obj", "points.txt", "ao.txt"))
-        write_obj(obj_path, vertices, faces)
-        write_points(pts_path, points, normals, keys)
-        subprocess.run([exe, "query", obj_path, "--points", pts_path, "-o", out_path, "-n", str(samples),
-                        "-r", repr(float(radius)), "--offset", repr(float(offset)), "--falloff", falloff],
-                       check=True, capture_output=True, text=True)
-        return np.loadtxt(out_path, dtype=np.float32, ndmin=1)
+class Occluders:
+    """The triangles that rays are cast against (world space) and, with the module, the exao
+    Scene over them, built once and kept for every target that shares these occluders (its BVH
+    is built on the first query and cached for the same options)."""
+
+    def __init__(self, vertices, faces):
+        self.vertices, self.faces = vertices, faces
+        self._scene = None
+
+    def ao(self, points, normals, keys, samples, radius, offset, falloff, progress=None):
+        """AO at the receivers: float32 (n,). radius and offset in scene units (float32); keys
+        None: 0 .. n-1 (the vertex or corner index)."""
+        if _exao_module is not None:
+            if self._scene is None:
+                self._scene = _exao_module.Scene.from_arrays(self.vertices, self.faces)
+            return self._scene.ao(points, normals, keys=keys, samples=samples, radius=float(radius),
+                                  offset=float(offset), falloff=falloff, progress=progress)
+        exe = shutil.which("exao")
+        if exe is None:
+            raise RuntimeError("exao: neither the exao Python module nor the exao command is installed")
+        with tempfile.TemporaryDirectory(prefix="exao-bake-") as tmp:
+            obj_path, pts_path, out_path = (os.path.join(tmp, f) for f in ("scene.obj", "points.txt", "ao.txt"))
+            write_obj(obj_path, self.vertices, self.faces)
+            write_points(pts_path, points, normals, np.arange(len(points)) if keys is None else keys)
+            subprocess.run([exe, "query", obj_path, "--points", pts_path, "-o", out_path, "-n", str(samples),
+                            "-r", repr(float(radius)), "--offset", repr(float(offset)), "--falloff", falloff],
+                           check=True, capture_output=True, text=True)
+            return np.loadtxt(out_path, dtype=np.float32, ndmin=1)
 
 
 def write_obj(path, vertices, faces):
@@ -285,42 +358,76 @@ class EXAO_OT_bake_ao(bpy.types.Operator):
     def execute(self, context):
         settings = context.scene.exao_bake
         samples = max(32, min(1024, (settings.samples + 31) // 32 * 32))
-        depsgraph = context.evaluated_depsgraph_get()
         wm = context.window_manager
+        timings = {"data access": 0.0, "exao": 0.0, "write-back": 0.0}
+        clock = time.perf_counter
+        started = clock()
         try:
-            all_vertices, all_faces = occluders(context)
-            diagonal = scene_diagonal(all_vertices)
+            depsgraph = context.evaluated_depsgraph_get()
+            visible = [o for o in context.view_layer.objects if o.type == "MESH" and o.visible_get()]
+            targets = [o for o in context.selected_objects if o.type == "MESH"]
+            # Each object read once: as an occluder and, when selected, for its receivers.
+            evaluated = {o.name: EvaluatedMesh(o, depsgraph) for o in visible}
+            for o in targets:
+                if o.name not in evaluated:
+                    evaluated[o.name] = EvaluatedMesh(o, depsgraph)
+            scene_vertices, scene_faces = occluder_arrays([evaluated[o.name] for o in visible])
+            diagonal = scene_diagonal(scene_vertices)
             radius = _settings_radius(settings, diagonal)
             offset = np.float32(1e-4 * diagonal)  # the exao default, of the scene without the ground plane
-            targets = [o for o in context.selected_objects if o.type == "MESH"]
+
+            def occluders_of(vertices, faces):
+                return Occluders(*(with_ground(vertices, faces, diagonal) if settings.ground else (vertices, faces)))
+
+            shared = None if settings.only_local else occluders_of(scene_vertices, scene_faces)
+            timings["data access"] += clock() - started
+            self.report({"INFO"}, f"exao: baking {len(targets)} object(s) with the {backend_name()}")
+            # Every target's receivers read before anything is written: an evaluated mesh is only
+            # valid until the depsgraph next updates.
+            jobs = []
+            for obj in targets:
+                mesh_eval = evaluated[obj.name]
+                occluders = shared or occluders_of(*occluder_arrays([mesh_eval]))
+                if settings.target == "COLOR_ATTRIBUTE":
+                    domain, points, normals = vertex_receivers(mesh_eval)
+                    expected = len(obj.data.vertices) if domain == "POINT" else len(obj.data.loops)
+                    if len(points) != expected:
+                        raise ValueError(f"{obj.name}: its modifiers change the number of vertices; apply them to bake a color attribute")
+                    jobs.append((obj, occluders, points, normals, None, domain))
+                else:
+                    points, normals, texels = texel_receivers(mesh_eval, settings.image_size)
+                    jobs.append((obj, occluders, points, normals, texels, None))
+            del evaluated
+            timings["data access"] += clock() - started
             self.report({"INFO"}, f"exao: baking {len(targets)} object(s) with the {backend_name()}")
             wm.progress_begin(0, 100)
-            for k, obj in enumerate(targets):
-                vertices, faces = (all_vertices, all_faces) if not settings.only_local else occluders(context, only=obj)
-                if settings.ground:
-                    vertices, faces = with_ground(vertices, faces, diagonal)
+            for k, (obj, occluders, points, normals, texels, domain) in enumerate(jobs):
 
                 def progress(done, total, k=k):
-                    wm.progress_update(100.0 * (k + (done / total if total else 1.0)) / len(targets))
+                    wm.progress_update(100.0 * (k + (done / total if total else 1.0)) / len(jobs))
 
-                if settings.target == "COLOR_ATTRIBUTE":
-                    self.bake_attribute(obj, depsgraph, vertices, faces, samples, radius, offset, settings, progress)
+                t = clock()
+                keys = None if texels is None else texels.astype(np.uint64)
+                ao = occluders.ao(points, normals, keys, samples, radius, offset, settings.falloff, progress)
+                timings["exao"] += clock() - t
+                t = clock()
+                if texels is None:
+                    self.write_attribute(obj, domain, ao, settings)
                 else:
-                    self.bake_image(obj, depsgraph, vertices, faces, samples, radius, offset, settings, progress)
+                    self.write_image(obj, texels, ao, settings)
+                timings["write-back"] += clock() - t
         except (ValueError, OSError, RuntimeError, subprocess.CalledProcessError) as e:
             self.report({"ERROR"}, f"exao: {getattr(e, 'stderr', None) or e}")
             return {"CANCELLED"}
         finally:
             wm.progress_end()
+        last_timings.clear()
+        last_timings.update(timings)
+        self.report({"INFO"}, "exao: " + ", ".join(f"{k} {v:.2f} s" for k, v in timings.items()))
         return {"FINISHED"}
 
-    def bake_attribute(self, obj, depsgraph, vertices, faces, samples, radius, offset, settings, progress):
-        domain, points, normals, keys = vertex_receivers(obj, depsgraph)
+    def write_attribute(self, obj, domain, ao, settings):
         mesh = obj.data
-        expected = len(mesh.vertices) if domain == "POINT" else len(mesh.loops)
-        if len(points) != expected:
-            raise ValueError(f"{obj.name}: its modifiers change the number of vertices; apply them to bake a color attribute")
-        ao = compute_ao(vertices, faces, points, normals, keys, samples, radius, offset, settings.falloff, progress)
         attr = mesh.color_attributes.get(settings.attribute)
         if attr is not None and (attr.domain != domain or attr.data_type != "FLOAT_COLOR"):
             mesh.color_attributes.remove(attr)
@@ -334,11 +441,8 @@ class EXAO_OT_bake_ao(bpy.types.Operator):
         mesh.update()
         self.report({"INFO"}, f"exao: {obj.name}: {len(ao)} {'vertices' if domain == 'POINT' else 'face corners'} -> {attr.name}")
 
-    def bake_image(self, obj, depsgraph, vertices, faces, samples, radius, offset, settings, progress):
+    def write_image(self, obj, texels, ao, settings):
         size = settings.image_size
-        points, normals, texels = texel_receivers(obj, depsgraph, size)
-        ao = compute_ao(vertices, faces, points, normals, texels.astype(np.uint64), samples, radius, offset,
-                        settings.falloff, progress)
         values = np.ones(size * size, np.float32)
         filled = np.zeros(size * size, bool)
         values[texels] = ao

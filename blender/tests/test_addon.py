@@ -8,7 +8,8 @@ cube, a smooth sphere under a subdivision modifier, all transformed), bakes, and
  - the color attributes equal `exao query` on the same world-space points and normals, exactly
    (per vertex for the smooth sphere, per face corner for the flat cube);
  - "Only Local" leaves the cube lighter where the ground occluded it;
- - an image bake is non-blank where the cube has UVs, and its margin reaches past the islands.
+ - an image bake is non-blank where the cube has UVs, its margin reaches past the islands, and
+   rasterising the UV triangles in other batches gives the same image.
 Any failed check raises, and --python-exit-code 1 makes blender exit 1."""
 
 import os
@@ -158,6 +159,15 @@ px = px.reshape(-1, 4)
 covered = px[:, 3] > 0
 assert covered.sum() > 64 * 64 // 8, f"only {covered.sum()} texels baked"
 assert px[covered, 0].min() < 1.0 and px[covered, 0].max() > 0.0, "the baked image is blank"
+# Rasterised in small batches (and every triangle as a "large" one), the texels are the same.
+default_batch = exao_bake._TEXELS_PER_BATCH
+for batch in (7, 1):
+    exao_bake._TEXELS_PER_BATCH = batch
+    bake(cube)
+    again = np.empty(64 * 64 * 4, np.float32)
+    bpy.data.images[f"{cube.name}_exao_AO"].pixels.foreach_get(again)
+    assert np.array_equal(again.reshape(-1, 4), px), f"batches of {batch} texels change the image"
+exao_bake._TEXELS_PER_BATCH = default_batch
 settings.margin = 0
 bake(cube)
 px0 = np.empty(64 * 64 * 4, np.float32)
