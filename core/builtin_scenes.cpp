@@ -2,8 +2,6 @@
 
 #include <cmath>
 
-#include "core/load_scene.h"
-
 namespace exao {
 namespace {
 
@@ -140,13 +138,6 @@ Result<Scene> builtin_scene(const std::string& name) {
   if (name == "hidden-box") return make_hidden_box();
   if (name == "corners") return make_corners();
   return fail(name + ": no such built-in scene (room, plane-pair, sphere-on-plane, hidden-box, corners)");
-}
-
-Result<Scene> open_scene(const std::string& name_or_path) {
-  for (const std::string& name : builtin_scene_names()) {
-    if (name == name_or_path) return builtin_scene(name);
-  }
-  return load_scene(name_or_path);
 }
 
 }  // namespace exao

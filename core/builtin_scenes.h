@@ -3,6 +3,10 @@
 // have analytic answers. All are in metres-like units, +Y up, one-sided with fronts facing the
 // open space.
 
+#include <string>
+#include <vector>
+
+#include "core/error.h"
 #include "core/scene.h"
 
 namespace exao {
@@ -31,5 +35,12 @@ namespace exao {
 /// vertices every 0.25, all exact in float, on every corner, edge and crossing line, so vertex
 /// receivers (and offset 0) start exactly in the planes of their neighbours. Has a camera.
 [[nodiscard]] Scene make_corners();
+
+/// Names of the built-in scenes; the first is the default.
+[[nodiscard]] std::vector<std::string> builtin_scene_names();
+
+/// A built-in scene by name ("room", "plane-pair", "sphere-on-plane", "hidden-box", "corners"),
+/// or an error.
+[[nodiscard]] Result<Scene> builtin_scene(const std::string& name);
 
 }  // namespace exao
