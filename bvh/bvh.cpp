@@ -97,7 +97,9 @@ Result<Bvh> build_from(const Source& source, const BvhOptions& options, const Pr
         primitives[t] = {lo.x, lo.y, lo.z, static_cast<std::uint32_t>(t), hi.x, hi.y, hi.z, 0.0f};
       }
     });
-    topology = build_topology(primitives, options, {}, topology_progress);
+    SahCosts costs;
+    if (const char* c = std::getenv("EXAO_SAH_INTERSECTION")) costs.intersection = std::strtof(c, nullptr);
+    topology = build_topology(primitives, options, costs, topology_progress);
   }  // the primitives (32 bytes a triangle) go before the packed triangles come
   if (!topology) return std::unexpected(topology.error());
 
