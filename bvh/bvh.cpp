@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <limits>
 #include <string>
 
@@ -97,9 +95,7 @@ Result<Bvh> build_from(const Source& source, const BvhOptions& options, const Pr
         primitives[t] = {lo.x, lo.y, lo.z, static_cast<std::uint32_t>(t), hi.x, hi.y, hi.z, 0.0f};
       }
     });
-    SahCosts costs;
-    if (const char* c = std::getenv("EXAO_SAH_INTERSECTION")) costs.intersection = std::strtof(c, nullptr);
-    topology = build_topology(primitives, options, costs, topology_progress);
+    topology = build_topology(primitives, options, {}, topology_progress);
   }  // the primitives (32 bytes a triangle) go before the packed triangles come
   if (!topology) return std::unexpected(topology.error());
 
@@ -144,10 +140,6 @@ Result<Bvh> build_from(const Source& source, const BvhOptions& options, const Pr
       }
     }
   });
-  if (std::getenv("EXAO_BVH_DEBUG")) {
-    std::fprintf(stderr, "bvh: %zu triangles, %zu nodes, %zu leaves (%.2f a leaf)\n", n, bvh.nodes.size(), bvh.blocks.size(),
-                 double(n) / double(bvh.blocks.size()));
-  }
   return bvh;
 }
 

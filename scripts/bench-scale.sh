@@ -8,8 +8,8 @@
 #
 #   scripts/bench-scale.sh [--exao PATH] [--sizes "0.5 2 8 32"] [--out docs/scale] [--work DIR] [--threads T]
 #
-# A size whose expected peak (450 bytes a triangle, the larger of the two runs, with room to
-# spare) does not fit in MemAvailable is skipped, and the table says so.
+# A size whose expected peak (500 bytes a triangle, the bvh run's at 8M) is more than half of
+# MemAvailable is skipped (the machine is shared), and the table says so.
 set -euo pipefail
 
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -50,8 +50,8 @@ for m in $sizes; do
   n=$(python3 -c "import math; print(round(math.sqrt($m * 1e6 / 2)))")
   triangles=$((2 * n * n))
   available_kb=$(awk '/MemAvailable/ {print $2}' /proc/meminfo)
-  if [ $((triangles * 450 / 1024)) -gt "$available_kb" ]; then
-    echo "bench-scale.sh: ${m}M triangles: skipped, about $((triangles * 450 / 1048576)) MB needed, $((available_kb / 1024)) MB available" >&2
+  if [ $((triangles * 500 / 1024)) -gt $((available_kb / 2)) ]; then
+    echo "bench-scale.sh: ${m}M triangles: skipped, about $((triangles * 500 / 1048576)) MB needed, $((available_kb / 1024)) MB available" >&2
     skipped+=("$m")
     continue
   fi
@@ -72,8 +72,9 @@ for m in $sizes; do
       "$load_s" "$build_s" "$ao_s" "$wall_s" $((peak_kb / 1024)) >> "$results"
     echo "   $method: load $load_s s, build $build_s s, AO $ao_s s, wall $wall_s s, peak $((peak_kb / 1024)) MB" >&2
   done
-  cmp -s "$work/ao-bvh-$n.txt" "$work/ao-embree-$n.txt" && same="same" || same="differ"
-  echo "   bvh and embree AO: $same" >&2
+  # bvh may differ from Embree on a few grazing rays (DESIGN.md 8.3): count the receivers.
+  differ=$(paste -d' ' "$work/ao-bvh-$n.txt" "$work/ao-embree-$n.txt" | awk '$1 != $2' | wc -l)
+  echo "   bvh and embree AO: $differ of $(wc -l < "$points") receivers differ" >&2
 done
 
 python3 "$root/scripts/scale_plot.py" "$results" "$out.md" "$out.svg" "$(nproc)" "$isa" "${skipped[*]:-}"
