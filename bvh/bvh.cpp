@@ -1,135 +1,146 @@
 #include "bvh/bvh.h"
 
-#include <embree3/rtcore.h>
-
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <string>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+
+#include "bvh/sah_builder.h"
+
 namespace exao::bvh {
 namespace {
 
-// The builder's own tree, pointer-linked in Embree's thread-local memory; flattened afterwards.
-struct BuildNode {
-  virtual ~BuildNode() = default;
-  virtual bool is_leaf() const = 0;
-};
-struct BuildInner final : BuildNode {
-  BuildNode* children[kMaxChildren] = {};
-  RTCBounds bounds[kMaxChildren] = {};
-  unsigned count = 0;
-  bool is_leaf() const override { return false; }
-};
-struct BuildLeaf final : BuildNode {
-  std::uint32_t triangles[8] = {};
-  unsigned count = 0;
-  RTCBounds bounds{};
-  bool is_leaf() const override { return true; }
+constexpr std::size_t kGrain = 1 << 14;
+
+// Where the triangles come from: a TriangleSet (spheres already computed) or a Scene (computed
+// here by the same function, so the floats are the same).
+struct SetSource {
+  const lut::TriangleSet& set;
+  [[nodiscard]] std::size_t size() const { return set.size(); }
+  [[nodiscard]] glm::vec3 vertex(std::size_t t, int k) const { return k == 0 ? set.v0[t] : k == 1 ? set.v1[t] : set.v2[t]; }
+  [[nodiscard]] lut::PackedTriangle packed(std::size_t t) const { return set.packed(t); }
 };
 
-void* create_node(RTCThreadLocalAllocator alloc, unsigned count, void*) {
-  void* memory = rtcThreadLocalAlloc(alloc, sizeof(BuildInner), 16);
-  auto* node = new (memory) BuildInner;
-  node->count = count;
-  return node;
-}
-
-void set_children(void* node, void** children, unsigned count, void*) {
-  auto* inner = static_cast<BuildInner*>(node);
-  for (unsigned i = 0; i < count; ++i) inner->children[i] = static_cast<BuildNode*>(children[i]);
-  inner->count = count;
-}
-
-void set_bounds(void* node, const RTCBounds** bounds, unsigned count, void*) {
-  auto* inner = static_cast<BuildInner*>(node);
-  for (unsigned i = 0; i < count; ++i) inner->bounds[i] = *bounds[i];
-}
-
-void* create_leaf(RTCThreadLocalAllocator alloc, const RTCBuildPrimitive* primitives, size_t count, void*) {
-  void* memory = rtcThreadLocalAlloc(alloc, sizeof(BuildLeaf), 16);
-  auto* leaf = new (memory) BuildLeaf;
-  leaf->count = static_cast<unsigned>(count);
-  for (size_t i = 0; i < count; ++i) leaf->triangles[i] = primitives[i].primID;
-  return leaf;
-}
-
-struct Sphere {
-  glm::dvec3 centre;
-  double radius;
+struct SceneSource {
+  const Scene& scene;
+  [[nodiscard]] std::size_t size() const { return scene.triangle_count(); }
+  [[nodiscard]] glm::vec3 vertex(std::size_t t, int k) const { return scene.vertices[3 * t + static_cast<std::size_t>(k)]; }
+  [[nodiscard]] lut::PackedTriangle packed(std::size_t t) const {
+    lut::PackedTriangle p;
+    p.v0 = scene.vertices[3 * t];
+    p.v1 = scene.vertices[3 * t + 1];
+    p.v2 = scene.vertices[3 * t + 2];
+    lut::bounding_sphere(p.v0, p.v1, p.v2, p.centre, p.radius);
+    p.two_sided = scene.two_sided[t];
+    return p;
+  }
 };
 
-class Flattener {
- public:
-  Flattener(const lut::TriangleSet& source, Bvh& bvh) : source_(source), bvh_(bvh) {}
+// A sphere around the box centre holding every triangle sphere of the subtree (tighter than
+// the box's circumsphere), radius rounded up past the float centre: the region mask of this
+// sphere must contain those of the triangles' spheres (lut/sphere_test.h, nesting).
+void set_sphere(Node& node, int slot, const Bvh& bvh, std::uint32_t first, std::uint32_t last) {
+  const glm::vec3 centre_f(0.5f * (node.lo_x[slot] + node.hi_x[slot]), 0.5f * (node.lo_y[slot] + node.hi_y[slot]),
+                           0.5f * (node.lo_z[slot] + node.hi_z[slot]));
+  const glm::dvec3 centre(centre_f);
+  double radius = 0.0;
+  for (std::uint32_t i = first; i < last; ++i) {
+    const lut::PackedTriangle& t = bvh.packed[i];
+    radius = std::max(radius, glm::length(glm::dvec3(t.centre) - centre) + double(t.radius));
+  }
+  node.centre_x[slot] = centre_f.x;
+  node.centre_y[slot] = centre_f.y;
+  node.centre_z[slot] = centre_f.z;
+  node.radius[slot] = std::nextafter(static_cast<float>(radius * (1.0 + 1e-6)), INFINITY);
+}
 
-  // Appends the subtree's triangles in leaf order; returns the slot data of the child.
-  void fill_child(Node& parent, int slot, const BuildNode* child, const RTCBounds& bounds) {
-    parent.lo_x[slot] = bounds.lower_x;
-    parent.lo_y[slot] = bounds.lower_y;
-    parent.lo_z[slot] = bounds.lower_z;
-    parent.hi_x[slot] = bounds.upper_x;
-    parent.hi_y[slot] = bounds.upper_y;
-    parent.hi_z[slot] = bounds.upper_z;
-    const std::size_t first_triangle = bvh_.scene_triangle.size();
-    if (child->is_leaf()) {
-      const auto* leaf = static_cast<const BuildLeaf*>(child);
-      parent.child[slot] = static_cast<std::uint32_t>(first_triangle);
-      parent.leaf_size[slot] = static_cast<std::uint8_t>(leaf->count);
-      for (unsigned i = 0; i < leaf->count; ++i) bvh_.scene_triangle.push_back(leaf->triangles[i]);
-    } else {
-      parent.child[slot] = flatten(static_cast<const BuildInner*>(child));
-      parent.leaf_size[slot] = 0;
+LeafBlock make_block(const Bvh& bvh, std::uint32_t first, int size) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  LeafBlock block;
+  for (int l = 0; l < LeafBlock::kLanes; ++l) {
+    const bool used = l < size;
+    const lut::PackedTriangle& t = bvh.packed[first + static_cast<std::uint32_t>(used ? l : 0)];
+    const auto put = [&](float* lanes, float value) { lanes[l] = used ? value : nan; };
+    put(block.v0x, t.v0.x), put(block.v0y, t.v0.y), put(block.v0z, t.v0.z);
+    put(block.v1x, t.v1.x), put(block.v1y, t.v1.y), put(block.v1z, t.v1.z);
+    put(block.v2x, t.v2.x), put(block.v2y, t.v2.y), put(block.v2z, t.v2.z);
+    put(block.cx, t.centre.x), put(block.cy, t.centre.y), put(block.cz, t.centre.z);
+    put(block.radius, t.radius);
+    if (used && t.two_sided) block.two_sided |= 1u << l;
+  }
+  return block;
+}
+
+template <class Source>
+Result<Bvh> build_from(const Source& source, const BvhOptions& options, const ProgressCallback& progress) {
+  const std::size_t n = source.size();
+  if (n == 0) return fail("bvh: the scene has no triangles");
+  if (auto ok = check_options(options); !ok) return std::unexpected(ok.error());
+  // Progress: the topology reports n (triangles placed in leaves), the packing n more.
+  const ProgressCallback topology_progress =
+      progress ? ProgressCallback([&](std::size_t done, std::size_t) { progress(done, 2 * n); }) : ProgressCallback();
+
+  Result<Topology> topology;
+  {
+    std::vector<BuildPrimitive> primitives(n);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kGrain), [&](const tbb::blocked_range<std::size_t>& range) {
+      for (std::size_t t = range.begin(); t != range.end(); ++t) {
+        const glm::vec3 a = source.vertex(t, 0), b = source.vertex(t, 1), c = source.vertex(t, 2);
+        const glm::vec3 lo = glm::min(a, glm::min(b, c)), hi = glm::max(a, glm::max(b, c));
+        primitives[t] = {lo.x, lo.y, lo.z, static_cast<std::uint32_t>(t), hi.x, hi.y, hi.z, 0.0f};
+      }
+    });
+    topology = build_topology(primitives, options, {}, topology_progress);
+  }  // the primitives (32 bytes a triangle) go before the packed triangles come
+  if (!topology) return std::unexpected(topology.error());
+
+  Bvh bvh;
+  bvh.nodes = std::move(topology->nodes);
+  bvh.scene_triangle = std::move(topology->order);
+  bvh.packed.resize(n);
+  std::atomic<std::size_t> packed_count{0};
+  bvh.largest_coordinate = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, n, kGrain), 0.0f,
+      [&](const tbb::blocked_range<std::size_t>& range, float largest) {
+        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+          const lut::PackedTriangle p = source.packed(bvh.scene_triangle[i]);
+          bvh.packed[i] = p;
+          for (const glm::vec3& v : {p.v0, p.v1, p.v2}) largest = std::max({largest, std::abs(v.x), std::abs(v.y), std::abs(v.z)});
+        }
+        if (progress) progress(n + (packed_count += range.size()), 2 * n);
+        return largest;
+      },
+      [](float x, float y) { return std::max(x, y); });
+
+  // The node spheres, and one block per leaf in node order, then slot order.
+  const std::vector<Topology::SlotRange>& ranges = topology->ranges;
+  std::vector<std::uint32_t> first_block(bvh.nodes.size() + 1, 0);
+  for (std::size_t i = 0; i < bvh.nodes.size(); ++i) {
+    const Node& node = bvh.nodes[i];
+    std::uint32_t leaves = 0;
+    for (int k = 0; k < node.child_count; ++k) leaves += node.leaf_size[k] != 0;
+    first_block[i + 1] = first_block[i] + leaves;
+  }
+  bvh.blocks.resize(first_block.back());
+  bvh.leaf_block.assign(n, 0);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, bvh.nodes.size(), 256), [&](const tbb::blocked_range<std::size_t>& range) {
+    for (std::size_t i = range.begin(); i != range.end(); ++i) {
+      Node& node = bvh.nodes[i];
+      std::uint32_t block = first_block[i];
+      for (int k = 0; k < node.child_count; ++k) {
+        set_sphere(node, k, bvh, ranges[i].first[k], ranges[i].last[k]);
+        if (node.leaf_size[k] == 0) continue;
+        bvh.leaf_block[node.child[k]] = block;
+        bvh.blocks[block++] = make_block(bvh, node.child[k], node.leaf_size[k]);
+      }
     }
-    const Sphere s = enclosing_sphere(bounds, first_triangle, bvh_.scene_triangle.size());
-    parent.centre_x[slot] = static_cast<float>(s.centre.x);
-    parent.centre_y[slot] = static_cast<float>(s.centre.y);
-    parent.centre_z[slot] = static_cast<float>(s.centre.z);
-    parent.radius[slot] = static_cast<float>(s.radius);
-  }
-
-  std::uint32_t flatten(const BuildInner* inner) {
-    const auto index = static_cast<std::uint32_t>(bvh_.nodes.size());
-    bvh_.nodes.emplace_back();
-    Node node{};
-    node.child_count = static_cast<std::uint8_t>(inner->count);
-    for (unsigned k = 0; k < inner->count; ++k) fill_child(node, static_cast<int>(k), inner->children[k], inner->bounds[k]);
-    bvh_.nodes[index] = node;
-    return index;
-  }
-
- private:
-  // A sphere around the box centre holding every triangle sphere of the subtree (tighter than
-  // the box's circumsphere), radius rounded up past the float centre: the region mask of this
-  // sphere must contain those of the triangles' spheres (lut/sphere_test.h, nesting).
-  Sphere enclosing_sphere(const RTCBounds& b, std::size_t first, std::size_t last) const {
-    const glm::vec3 centre_f(0.5f * (b.lower_x + b.upper_x), 0.5f * (b.lower_y + b.upper_y), 0.5f * (b.lower_z + b.upper_z));
-    const glm::dvec3 centre(centre_f);
-    double radius = 0.0;
-    for (std::size_t i = first; i < last; ++i) {
-      const std::uint32_t t = bvh_.scene_triangle[i];
-      radius = std::max(radius, glm::length(glm::dvec3(source_.centre[t]) - centre) + double(source_.radius[t]));
-    }
-    return {centre, static_cast<double>(std::nextafter(static_cast<float>(radius * (1.0 + 1e-6)), INFINITY))};
-  }
-
-  const lut::TriangleSet& source_;
-  Bvh& bvh_;
-};
-
-lut::TriangleSet permuted(const lut::TriangleSet& source, const std::vector<std::uint32_t>& order) {
-  lut::TriangleSet out;
-  const auto take = [&](auto& dst, const auto& src) {
-    dst.resize(order.size());
-    for (std::size_t i = 0; i < order.size(); ++i) dst[i] = src[order[i]];
-  };
-  take(out.v0, source.v0);
-  take(out.v1, source.v1);
-  take(out.v2, source.v2);
-  take(out.two_sided, source.two_sided);
-  take(out.centre, source.centre);
-  take(out.radius, source.radius);
-  return out;
+  });
+  return bvh;
 }
 
 }  // namespace
@@ -144,98 +155,12 @@ Result<void> check_options(const BvhOptions& options) {
   return {};
 }
 
-Result<Bvh> Bvh::build(const lut::TriangleSet& triangles, const BvhOptions& options) {
-  if (triangles.size() == 0) return fail("bvh: the scene has no triangles");
-  if (auto ok = check_options(options); !ok) return std::unexpected(ok.error());
+Result<Bvh> Bvh::build(const lut::TriangleSet& triangles, const BvhOptions& options, const ProgressCallback& progress) {
+  return build_from(SetSource{triangles}, options, progress);
+}
 
-  RTCDevice device = rtcNewDevice(nullptr);
-  if (!device) return fail("bvh: cannot create an Embree device");
-  std::vector<RTCBuildPrimitive> primitives(triangles.size());
-  for (std::size_t t = 0; t < triangles.size(); ++t) {
-    const glm::vec3 lo = glm::min(triangles.v0[t], glm::min(triangles.v1[t], triangles.v2[t]));
-    const glm::vec3 hi = glm::max(triangles.v0[t], glm::max(triangles.v1[t], triangles.v2[t]));
-    primitives[t] = RTCBuildPrimitive{lo.x, lo.y, lo.z, 0, hi.x, hi.y, hi.z, static_cast<unsigned>(t)};
-  }
-  RTCBVH embree_bvh = rtcNewBVH(device);
-  RTCBuildArguments args = rtcDefaultBuildArguments();
-  args.buildQuality = RTC_BUILD_QUALITY_HIGH;
-  args.maxBranchingFactor = static_cast<unsigned>(options.branching);
-  args.maxDepth = 64;
-  args.minLeafSize = 1;
-  args.maxLeafSize = static_cast<unsigned>(options.max_leaf_size);
-  args.traversalCost = 1.0f;
-  args.intersectionCost = 1.0f;
-  args.bvh = embree_bvh;
-  args.primitives = primitives.data();
-  args.primitiveCount = primitives.size();
-  args.primitiveArrayCapacity = primitives.size();
-  args.createNode = create_node;
-  args.setNodeChildren = set_children;
-  args.setNodeBounds = set_bounds;
-  args.createLeaf = create_leaf;
-  const auto* root = static_cast<const BuildNode*>(rtcBuildBVH(&args));
-
-  Bvh bvh;
-  std::string error;
-  if (!root) {
-    error = "bvh: Embree's builder failed (" + std::to_string(static_cast<int>(rtcGetDeviceError(device))) + ")";
-  } else {
-    Flattener flattener(triangles, bvh);
-    if (root->is_leaf()) {
-      // A scene that fits one leaf still gets a root node, so traversal always starts at a node.
-      bvh.nodes.emplace_back();
-      Node node{};
-      node.child_count = 1;
-      // The builder gives a root leaf no bounds: use the union of the triangles' boxes.
-      RTCBounds b{INFINITY, INFINITY, INFINITY, 0, -INFINITY, -INFINITY, -INFINITY, 0};
-      for (std::size_t t = 0; t < triangles.size(); ++t) {
-        b.lower_x = std::min(b.lower_x, primitives[t].lower_x);
-        b.lower_y = std::min(b.lower_y, primitives[t].lower_y);
-        b.lower_z = std::min(b.lower_z, primitives[t].lower_z);
-        b.upper_x = std::max(b.upper_x, primitives[t].upper_x);
-        b.upper_y = std::max(b.upper_y, primitives[t].upper_y);
-        b.upper_z = std::max(b.upper_z, primitives[t].upper_z);
-      }
-      flattener.fill_child(node, 0, root, b);
-      bvh.nodes[0] = node;
-    } else {
-      flattener.flatten(static_cast<const BuildInner*>(root));
-    }
-  }
-  rtcReleaseBVH(embree_bvh);
-  rtcReleaseDevice(device);
-  if (!error.empty()) return fail(error);
-  bvh.triangles = permuted(triangles, bvh.scene_triangle);
-  bvh.packed.resize(bvh.triangles.size());
-  for (std::size_t t = 0; t < bvh.packed.size(); ++t) {
-    bvh.packed[t] = bvh.triangles.packed(t);
-    for (const glm::vec3& v : {bvh.packed[t].v0, bvh.packed[t].v1, bvh.packed[t].v2}) {
-      bvh.largest_coordinate = std::max({bvh.largest_coordinate, std::abs(v.x), std::abs(v.y), std::abs(v.z)});
-    }
-  }
-  // One block per leaf, in lanes.
-  bvh.leaf_block.assign(bvh.packed.size(), 0);
-  const float nan = std::numeric_limits<float>::quiet_NaN();
-  for (const Node& node : bvh.nodes) {
-    for (int k = 0; k < node.child_count; ++k) {
-      if (node.leaf_size[k] == 0) continue;
-      LeafBlock block;
-      for (int l = 0; l < LeafBlock::kLanes; ++l) {
-        const bool used = l < node.leaf_size[k];
-        const lut::PackedTriangle& t = bvh.packed[node.child[k] + (used ? l : 0)];
-        const auto put = [&](float* lanes, float value) { lanes[l] = used ? value : nan; };
-        put(block.v0x, t.v0.x), put(block.v0y, t.v0.y), put(block.v0z, t.v0.z);
-        put(block.v1x, t.v1.x), put(block.v1y, t.v1.y), put(block.v1z, t.v1.z);
-        put(block.v2x, t.v2.x), put(block.v2y, t.v2.y), put(block.v2z, t.v2.z);
-        put(block.cx, t.centre.x), put(block.cy, t.centre.y), put(block.cz, t.centre.z);
-        put(block.radius, t.radius);
-        if (used && t.two_sided) block.two_sided |= 1u << l;
-      }
-      bvh.leaf_block[node.child[k]] = static_cast<std::uint32_t>(bvh.blocks.size());
-      bvh.blocks.push_back(block);
-    }
-  }
-  return bvh;
+Result<Bvh> Bvh::build(const Scene& scene, const BvhOptions& options, const ProgressCallback& progress) {
+  return build_from(SceneSource{scene}, options, progress);
 }
 
 }  // namespace exao::bvh

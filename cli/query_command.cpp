@@ -38,10 +38,22 @@ int run_query(const QueryOptions& options, const Invocation& invocation) {
   if (invocation.merge) {
     if (auto ok = check_merge_receivers(*invocation.merge, *receivers); !ok) return report(ok.error());
   }
+  const auto load_start = std::chrono::steady_clock::now();
   Result<Scene> scene = open_scene(options.scene);
   if (!scene) return report(scene.error());
-  Result<engine::Engine> engine = engine::Engine::build(*scene, *engine_options, engine::Receivers::Points);
+  const auto build_start = std::chrono::steady_clock::now();
+  Result<engine::Engine> engine = [&] {
+    ProgressBar bar("build");
+    return engine::Engine::build(*scene, *engine_options, engine::Receivers::Points, bar.callback());
+  }();
   if (!engine) return report(engine.error());
+  const auto built = std::chrono::steady_clock::now();
+  const std::size_t triangles = scene->triangle_count();
+  const double load_seconds = std::chrono::duration<double>(build_start - load_start).count();
+  const double build_seconds = std::chrono::duration<double>(built - build_start).count();
+  // The engine holds what it needs (the BVH keeps its own copy of every triangle): the scene's
+  // arrays go before the rays.
+  *scene = Scene{};
   print_option_notes(*engine);
   if (*shard) {
     const JobRecord record = make_record("query", invocation, {options.scene.scene, options.points}, output, *receivers,
@@ -63,6 +75,8 @@ int run_query(const QueryOptions& options, const Invocation& invocation) {
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (!ao) return report(Error{options.points + ": " + ao.error().message});
   if (auto ok = save_values(*ao, output); !ok) return report(ok.error());
+  std::printf("%s: %zu triangles, loaded in %.3f s, prepared in %.3f s\n", options.scene.scene.c_str(), triangles,
+              load_seconds, build_seconds);
   std::printf("%s: %zu receivers, N=%d, r=%g, %s: %.3f s (%.1f Mrays/s) -> %s\n", options.points.c_str(),
               receivers->size(), engine->samples(), static_cast<double>(engine->radius()),
               engine::method_name(engine->method()), seconds,

@@ -168,7 +168,8 @@ Engine::Engine(Engine&&) noexcept = default;
 Engine& Engine::operator=(Engine&&) noexcept = default;
 Engine::~Engine() = default;
 
-Result<Engine> Engine::build(const Scene& scene, const Options& options, Receivers receivers) {
+Result<Engine> Engine::build(const Scene& scene, const Options& options, Receivers receivers,
+                             const ProgressCallback& build_progress) {
   // Options first: a bad one is reported before any work on the scene.
   if (auto ok = check_options(options); !ok) return std::unexpected(ok.error());
   if (auto ok = check_serves(options, receivers); !ok) return std::unexpected(ok.error());
@@ -177,6 +178,7 @@ Result<Engine> Engine::build(const Scene& scene, const Options& options, Receive
   geometry_options.bvh = options.bvh;
   geometry_options.embree = receivers == Receivers::Pixels && options.method != Method::Raster;
   geometry_options.threads = options.threads;
+  geometry_options.progress = build_progress;
   const Method methods[] = {options.method};
   Result<std::shared_ptr<const Geometry>> geometry = Geometry::build(scene, methods, geometry_options);
   if (!geometry) return std::unexpected(geometry.error());

@@ -111,7 +111,9 @@ class Engine {
   /// Checks the options (check_options, then check_serves for `receivers`), prepares the
   /// scene's geometry and builds the rays and the mask engine. The scene need not outlive the
   /// engine. Errors name the option (engine/options.h) or the scene.
-  [[nodiscard]] static Result<Engine> build(const Scene& scene, const Options& options, Receivers receivers);
+  /// `build_progress` gets the BVH build's (done, total) work units, from any thread.
+  [[nodiscard]] static Result<Engine> build(const Scene& scene, const Options& options, Receivers receivers,
+                                            const ProgressCallback& build_progress = {});
   /// The same over a Geometry already prepared for options.method (Geometry::serves); the
   /// options' sidedness and bvh settings are the geometry's.
   [[nodiscard]] static Result<Engine> build(std::shared_ptr<const Geometry> geometry, const Options& options,

@@ -59,18 +59,17 @@ Result<std::shared_ptr<const Geometry>> Geometry::build(const Scene& scene, std:
     }
     const bool brute = uses(methods, Method::Brute);
     const bool bvh = uses(methods, Method::Bvh) || uses(methods, Method::Auto);
-    if (!(brute || bvh || raster)) return;
-    auto triangles = std::make_unique<lut::TriangleSet>(lut::TriangleSet::build(*source));
     if (bvh) {
-      Result<bvh::Bvh> tree = bvh::Bvh::build(*triangles, options.bvh);
+      // Straight from the scene: the BVH keeps its own copy in leaf order, so the scene-order
+      // set (53 bytes a triangle) is made only for brute and raster, after the tree.
+      Result<bvh::Bvh> tree = bvh::Bvh::build(*source, options.bvh, options.progress);
       if (!tree) {
         built = std::unexpected(tree.error());
         return;
       }
       geometry->bvh_ = std::make_unique<bvh::Bvh>(std::move(*tree));
     }
-    // The BVH keeps its own copy in leaf order; the scene-order set only for brute and raster.
-    if (brute || raster) geometry->triangles_ = std::move(triangles);
+    if (brute || raster) geometry->triangles_ = std::make_unique<lut::TriangleSet>(lut::TriangleSet::build(*source));
   });
   if (!built) return std::unexpected(built.error());
   if (!keep_scene) geometry->scene_.reset();

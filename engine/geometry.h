@@ -11,6 +11,7 @@
 #include "bvh/bvh.h"
 #include "core/embree_reference.h"
 #include "core/error.h"
+#include "core/progress.h"
 #include "core/scene.h"
 #include "engine/lod_cache.h"
 #include "engine/options.h"
@@ -24,6 +25,8 @@ struct GeometryOptions {
   /// Build the Embree scene even when no method casts rays, for pixel receivers and previews.
   bool embree = false;
   int threads = 0;  // 0: one per core
+  /// The BVH build's progress, (done, total) work units; may be called from any thread.
+  ProgressCallback progress;
 };
 
 class Geometry {

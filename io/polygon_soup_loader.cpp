@@ -13,6 +13,7 @@
 #include <exception>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <string_view>
@@ -21,6 +22,7 @@
 #include <glm/glm.hpp>
 
 #include "core/file_kind.h"
+#include "io/ply_binary_reader.h"
 #include "io/soup_prescan.h"
 
 namespace exao {
@@ -101,6 +103,18 @@ std::string explain_obj_failure(const std::string& path) {
   return "not a readable OBJ file";
 }
 
+// The whole file in one read (istreambuf_iterator goes a byte at a time).
+bool read_file(const std::string& path, std::string& out) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return false;
+  std::error_code error;
+  const auto size = std::filesystem::file_size(path, error);
+  if (error) return false;
+  out.resize(static_cast<std::size_t>(size));
+  in.read(out.data(), static_cast<std::streamsize>(size));
+  return static_cast<std::size_t>(in.gcount()) == out.size();
+}
+
 Result<Scene> load(const std::string& path) {
   if (const std::string problem = not_a_regular_file(path); !problem.empty()) return fail(problem);
   const std::string ext = lowercase_extension(path);
@@ -109,9 +123,15 @@ Result<Scene> load(const std::string& path) {
   }
 
   // CGAL's OFF and PLY readers trust the counts a file states (io/soup_prescan.h).
-  const std::string problem = ext == ".off"   ? off_problem(path)
-                              : ext == ".ply" ? ply_problem(path)
-                                              : std::string();
+  if (ext == ".ply") {
+    // Read once: the pre-scan and, for the common binary layouts, the scene come from the same
+    // bytes (io/ply_binary_reader.h); any other PLY goes to CGAL.
+    std::string file;
+    if (!read_file(path, file)) return fail("cannot read the file");
+    if (const std::string problem = ply_problem_in(file); !problem.empty()) return fail(problem);
+    if (std::optional<Result<Scene>> scene = read_binary_ply(file)) return std::move(*scene);
+  }
+  const std::string problem = ext == ".off" ? off_problem(path) : std::string();
   if (!problem.empty()) return fail(problem);
 
   std::vector<Point> points;

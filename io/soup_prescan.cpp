@@ -85,20 +85,21 @@ std::string ply_body_problem_binary(std::string_view body, const std::vector<Ply
   std::size_t pos = 0;
   for (const PlyElement& element : elements) {
     for (std::uint64_t entry = 0; entry < element.count; ++entry) {
-      const std::string where = "element '" + element.name + "' entry " + std::to_string(entry);
+      // Worded only when needed: one string per entry took longer than the whole check.
+      const auto where_of = [&] { return "element '" + element.name + "' entry " + std::to_string(entry); };
       for (const PlyProperty& p : element.properties) {
         if (!p.list) {
-          if (body.size() - pos < static_cast<std::size_t>(p.size)) return "the data ends inside " + where;
+          if (body.size() - pos < static_cast<std::size_t>(p.size)) return "the data ends inside " + where_of();
           pos += static_cast<std::size_t>(p.size);
           continue;
         }
-        if (body.size() - pos < static_cast<std::size_t>(p.count_size)) return "the data ends inside " + where;
+        if (body.size() - pos < static_cast<std::size_t>(p.count_size)) return "the data ends inside " + where_of();
         const std::int64_t count = read_binary_integer(reinterpret_cast<const unsigned char*>(body.data() + pos),
                                                        p.count_size, p.count_signed, big_endian);
         pos += static_cast<std::size_t>(p.count_size);
         const std::size_t left = body.size() - pos;
         if (count < 0 || static_cast<std::uint64_t>(count) > left / static_cast<std::size_t>(p.size)) {
-          return where + ": a list of " + std::to_string(count) + " items does not fit in the " +
+          return where_of() + ": a list of " + std::to_string(count) + " items does not fit in the " +
                  std::to_string(left) + " bytes left";
         }
         pos += static_cast<std::size_t>(count) * static_cast<std::size_t>(p.size);
@@ -289,6 +290,10 @@ std::string ply_problem(const std::string& path) {
   bool opened = false;
   const std::string file = read_all(path, opened);
   if (!opened) return {};  // the reader reports it
+  return ply_problem_in(file);
+}
+
+std::string ply_problem_in(std::string_view file) {
   std::size_t pos = 0;
   bool element_seen = false;
   bool end_seen = false;
@@ -298,7 +303,7 @@ std::string ply_problem(const std::string& path) {
   constexpr std::size_t kMaxHeaderLines = 10'000;
   for (std::size_t number = 1; number <= kMaxHeaderLines && pos < file.size(); ++number) {
     const std::size_t eol = file.find('\n', pos);
-    std::string line = file.substr(pos, eol == std::string::npos ? std::string::npos : eol - pos);
+    std::string line(file.substr(pos, eol == std::string::npos ? std::string::npos : eol - pos));
     pos = eol == std::string::npos ? file.size() : eol + 1;
     if (!line.empty() && line.back() == '\r') line.pop_back();
     std::istringstream iss(line);
@@ -359,7 +364,7 @@ std::string ply_problem(const std::string& path) {
              std::to_string(left) + " bytes after the header";
     }
   }
-  const std::string_view body = std::string_view(file).substr(pos);
+  const std::string_view body = file.substr(pos);
   return ascii ? ply_body_problem_ascii(body, elements)
                : ply_body_problem_binary(body, elements, format == "binary_big_endian");
 }

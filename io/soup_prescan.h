@@ -12,12 +12,15 @@
 // a line, or big-endian binary) and read each byte once.
 
 #include <string>
+#include <string_view>
 
 namespace exao {
 
 /// "" when CGAL's PLY reader may be given the file at `path`, else the first problem, in words
 /// (the header's shape, a count the file cannot hold, a list longer than the bytes left).
 [[nodiscard]] std::string ply_problem(const std::string& path);
+/// The same over the file's bytes, already read.
+[[nodiscard]] std::string ply_problem_in(std::string_view file);
 
 /// "" when CGAL's OFF reader may be given the file at `path`, else the first problem, in words
 /// (a count the file cannot hold, a face line whose size disagrees with its numbers, colour

@@ -11,6 +11,7 @@ packages=(
   libdraco-dev libmeshoptimizer-dev
   draco gltfpack  # command-line encoders: the tests make Draco and meshopt files with them
   libgtest-dev libgmock-dev libbenchmark-dev
+  time  # GNU time: scripts/bench-scale.sh's peak memory
 )
 
 missing=()
