@@ -129,6 +129,8 @@ lut::TriangleSet permuted(const lut::TriangleSet& source, const std::vector<std:
   take(out.two_sided, source.two_sided);
   take(out.centre, source.centre);
   take(out.radius, source.radius);
+  take(out.cutout, source.cutout);
+  out.cutouts = source.cutouts;
   return out;
 }
 
@@ -230,6 +232,7 @@ Result<Bvh> Bvh::build(const lut::TriangleSet& triangles, const BvhOptions& opti
         put(block.cx, t.centre.x), put(block.cy, t.centre.y), put(block.cz, t.centre.z);
         put(block.radius, t.radius);
         if (used && t.two_sided) block.two_sided |= 1u << l;
+        if (used && t.cutout) block.cutout |= 1u << l;
       }
       bvh.leaf_block[node.child[k]] = static_cast<std::uint32_t>(bvh.blocks.size());
       bvh.blocks.push_back(block);

@@ -39,6 +39,7 @@ struct alignas(32) LeafBlock {
   float cx[kLanes], cy[kLanes], cz[kLanes];  // bounding spheres
   float radius[kLanes];
   std::uint32_t two_sided = 0;  // bit k: lane k is two-sided
+  std::uint32_t cutout = 0;     // bit k: lane k is alpha-tested (0 in an opaque scene: today's path)
 };
 
 struct BvhOptions {
