@@ -208,8 +208,9 @@ template <int Bits, bool Stats, bool Certain>
         while (live) {
           const int l = std::countr_zero(live);
           live &= live - 1;
-          const CertainMasks<Bits> both =
+          CertainMasks<Bits> both =
               certain_finish<Bits>(ctx, bvh.packed[entry.child + l], setup.lane(l), frame, g, allowed, counters);
+          if (bvh.packed[entry.child + l].cutout) lut::keep_cutout_sure(bvh.triangles, bvh.scene_triangle[entry.child + l], engine.rays(), frame, both.sure.words, both.maybe.words);
           if constexpr (Stats) {
             if (popcount_and_not(both.sure, blocked) > 0) ++stats->triangles_blocking;
           }
@@ -221,7 +222,8 @@ template <int Bits, bool Stats, bool Certain>
         }
       } else {
         for (std::uint32_t t = entry.child; t < entry.child + entry.leaf_size; ++t) {
-          const Mask<Bits> m = triangle_mask<Bits>(ctx, bvh.packed[t], frame, allowed, counters);
+          Mask<Bits> m = triangle_mask<Bits>(ctx, bvh.packed[t], frame, allowed, counters);
+          if (bvh.packed[t].cutout) lut::keep_cutout_hits(bvh.triangles, bvh.scene_triangle[t], engine.rays(), frame, m.words);
           if constexpr (Stats) {
             ++stats->triangles_tested;
             if (popcount_and_not(m, blocked) > 0) ++stats->triangles_blocking;
