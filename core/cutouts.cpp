@@ -163,23 +163,37 @@ float Cutouts::opacity(std::size_t t, const glm::vec3& origin, const glm::vec3& 
   return a >= static_cast<double>(material.cutoff) ? 1.0f : 0.0f;
 }
 
+namespace {
+
+AlphaRule rule_under(const CutoutMaterial& m, const CutoutPolicy& policy) {
+  if (!m.blend) return AlphaRule::Cutoff;
+  switch (policy.blend) {
+    case BlendRule::Opaque: return AlphaRule::Opaque;
+    case BlendRule::Cutoff: return AlphaRule::Cutoff;
+    case BlendRule::Stochastic: return AlphaRule::Stochastic;
+  }
+  return AlphaRule::Opaque;
+}
+
+}  // namespace
+
+bool cuts_out(const Cutouts* cutouts, const CutoutPolicy& policy) {
+  if (!cutouts || !policy.enabled) return false;
+  std::vector<bool> tested(cutouts->materials.size());
+  for (std::size_t m = 0; m < tested.size(); ++m) tested[m] = rule_under(cutouts->materials[m], policy) != AlphaRule::Opaque;
+  for (const std::int32_t k : cutouts->of_triangle) {
+    if (k >= 0 && tested[cutouts->triangles[static_cast<std::size_t>(k)].material]) return true;
+  }
+  return false;
+}
+
 std::shared_ptr<const Cutouts> apply_cutout_policy(const std::shared_ptr<const Cutouts>& cutouts,
                                                    const CutoutPolicy& policy) {
   if (!cutouts || !policy.enabled) return nullptr;
   auto out = std::make_shared<Cutouts>(*cutouts);
   for (CutoutMaterial& m : out->materials) {
-    if (!m.blend) {
-      m.rule = AlphaRule::Cutoff;
-      continue;
-    }
-    switch (policy.blend) {
-      case BlendRule::Opaque: m.rule = AlphaRule::Opaque; break;
-      case BlendRule::Cutoff:
-        m.rule = AlphaRule::Cutoff;
-        m.cutoff = policy.blend_cutoff;
-        break;
-      case BlendRule::Stochastic: m.rule = AlphaRule::Stochastic; break;
-    }
+    m.rule = rule_under(m, policy);
+    if (m.blend && m.rule == AlphaRule::Cutoff) m.cutoff = policy.blend_cutoff;
   }
   if (!out->any()) return nullptr;
   return out;

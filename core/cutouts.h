@@ -128,6 +128,10 @@ struct Cutouts {
 [[nodiscard]] std::shared_ptr<const Cutouts> apply_cutout_policy(const std::shared_ptr<const Cutouts>& cutouts,
                                                                  const CutoutPolicy& policy);
 
+/// Whether apply_cutout_policy(cutouts, policy) would leave any triangle alpha-tested, without
+/// the copy: a capability check before any work.
+[[nodiscard]] bool cuts_out(const Cutouts* cutouts, const CutoutPolicy& policy);
+
 /// Clears the bits of `mask` (row of `words` 64-bit words, bit i = ray i) whose ray cut-out
 /// triangle t lets through: ray i is origin frame.origin, direction
 /// frame.to_world_direction(rays.pattern.directions[i]), exactly the floats the Embree reference
