@@ -8,8 +8,10 @@
 #include <gtest/gtest.h>
 #include <png.h>
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <memory>
@@ -17,6 +19,8 @@
 #include <string>
 #include <vector>
 
+#include "bake/bake.h"
+#include "bake/document.h"
 #include "core/builtin_scenes.h"
 #include "core/cutouts.h"
 #include "core/isa.h"
@@ -135,6 +139,41 @@ TEST(Cutouts, StochasticBlendIsEmbreeOnEveryRay) {
   o = at(5.0f);
   o.method = Method::Embree;
   EXPECT_EQ(differing_rays(run(scene, o, receivers), run(make_foliage(false), o, receivers)), 0u);
+}
+
+// The bakes see the cut-outs: the document of a built-in scene (converted to glTF) and of a glTF
+// file carry them, and its vertex and texel receivers are Embree's answer.
+TEST(Cutouts, BakeReceiversAreEmbreeWithTheFilter) {
+  std::vector<std::string> inputs{"foliage"};
+  const auto real = test::real_scene("AlphaBlendModeTest/glTF/AlphaBlendModeTest.gltf");
+  if (!real.empty()) inputs.push_back(real.string());
+  for (const std::string& input : inputs) {
+    SCOPED_TRACE(input);
+    Result<bake::Document> doc = bake::Document::open(input);
+    ASSERT_TRUE(doc) << doc.error().message;
+    ASSERT_TRUE(doc->scene().cutouts);
+    EXPECT_GT(doc->scene().cutouts->tested_count(), 0u);
+    for (const bake::Target target : {bake::Target::Vertex, bake::Target::Texture}) {
+      bake::BakeOptions options;
+      options.target = target;
+      options.texture_size = 256;
+      Result<std::vector<Receiver>> all = bake::bake_receivers(*doc, options);
+      ASSERT_TRUE(all) << all.error().message;
+      // At most ~3000 of them, spread over the whole model: enough, and fast.
+      auto receivers = std::make_unique<std::vector<Receiver>>();
+      const std::size_t stride = std::max<std::size_t>(1, all->size() / 3000);
+      for (std::size_t i = 0; i < all->size(); i += stride) receivers->push_back((*all)[i]);
+      engine::Options o = at(5.0f);
+      o.method = Method::Embree;
+      const MaskSet reference = run(doc->scene(), o, *receivers);
+      EXPECT_GT(blocked_rays(reference), 0u);
+      o.method = Method::Auto;
+      EXPECT_EQ(differing_rays(run(doc->scene(), o, *receivers), reference), 0u);
+      o.method = Method::Embree;
+      o.cutouts.enabled = false;
+      EXPECT_NE(differing_rays(run(doc->scene(), o, *receivers), reference), 0u) << "the cut-outs change the bake";
+    }
+  }
 }
 
 // One horizontal card 1 above a ground plane, a texture of its own (nearest filtering), and
@@ -382,6 +421,33 @@ TEST(CutoutsLoading, BadImagesAndUvsFallBackWithANote) {
     EXPECT_TRUE(has_note(*scene, "NaN or infinite UV"));
     EXPECT_FALSE(scene->cutouts && scene->cutouts->any());
   }
+}
+
+}  // namespace
+}  // namespace exao
+
+namespace exao {
+namespace {
+
+TEST(CutoutsCli, InfoListsTheAlphaTestedMaterials) {
+  const test::CommandResult run = test::run_exao(EXAO_BINARY, "info foliage");
+  EXPECT_EQ(run.status, 0) << run.output;
+  EXPECT_NE(run.output.find("cut-outs     98 triangles alpha-tested"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("checker-cards: MASK"), std::string::npos) << run.output;
+  const test::CommandResult off = test::run_exao(EXAO_BINARY, "info foliage --cutouts off");
+  EXPECT_NE(off.output.find("cut-outs     0 triangles alpha-tested (cut-outs off"), std::string::npos) << off.output;
+}
+
+TEST(CutoutsCli, RasterAndBadBlendOptionsAreRefusedInOneLine) {
+  test::TempDir dir;
+  const std::string out = " -W 32 -o " + (dir / "a.exr").string() + " --png ''";
+  test::expect_one_line_error(test::run_exao(EXAO_BINARY, "render foliage --method raster" + out), "--method");
+  test::expect_one_line_error(test::run_exao(EXAO_BINARY, "render foliage --blend cutoff" + out), "--blend");
+  test::expect_one_line_error(test::run_exao(EXAO_BINARY, "render foliage --blend cutoff 2" + out), "--blend");
+  test::expect_one_line_error(test::run_exao(EXAO_BINARY, "render foliage --blend sometimes" + out), "--blend");
+  EXPECT_FALSE(std::filesystem::exists(dir / "a.exr")) << "refused before any work";
+  const test::CommandResult raster = test::run_exao(EXAO_BINARY, "render foliage --method raster --cutouts off" + out);
+  EXPECT_EQ(raster.status, 0) << raster.output;
 }
 
 }  // namespace
