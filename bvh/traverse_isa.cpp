@@ -36,6 +36,8 @@ using lut::origin_triangle_distance2;
 
 #include "lut/lanes-inl.h"
 #include "lut/kernels-inl.h"
+#include "bvh/leaf_setup-inl.h"
+#include "bvh/node_setup-inl.h"
 #include "bvh/traverse-inl.h"
 
 namespace {
@@ -43,7 +45,7 @@ namespace {
 template <int Bits>
 constexpr TraverseFunctions<Bits> functions() {
   return {&traverse_receiver<Bits, false, false>, &traverse_receiver<Bits, true, false>,
-          &traverse_receiver<Bits, false, true>, &traverse_receiver<Bits, true, true>};
+          &traverse_receiver<Bits, false, true>, &traverse_receiver<Bits, true, true>, &leaf_masks<Bits>};
 }
 
 }  // namespace

@@ -209,11 +209,12 @@ inline void for_near_samples(const SampleArrays& s, const NearCells& cells, std:
   return dot(face.m) >= face.d && dot(edge[0].m) >= 0.0f && dot(edge[1].m) >= 0.0f && dot(edge[2].m) >= 0.0f;
 }
 
-// MaskEngine::region_mask restricted to `allowed` clusters.
+// The mask of a sphere test (make_sphere_test, or the BVH's children set up in lanes) for the
+// clusters of `allowed`: the near samples when its cone is small, else the clusters its cone
+// reaches.
 template <int Bits>
-[[nodiscard]] inline Mask<Bits> region_mask(const KernelContext& ctx, const glm::vec3& centre_local, float radius,
-                                            float margin, std::uint64_t allowed, KernelCounters* counters) {
-  const SphereTest test = make_sphere_test(centre_local, radius, ctx.radius, margin);
+[[nodiscard]] inline Mask<Bits> sphere_test_mask(const KernelContext& ctx, const SphereTest& test, std::uint64_t allowed,
+                                                 KernelCounters* counters) {
   std::uint64_t clusters = allowed & kAllClusters<Bits>;
   if (test.kind == SphereTest::Kind::Rays && ctx.cull_clusters && test.cone_sin < 1.0f) {
     NearCells cells;
@@ -239,15 +240,35 @@ template <int Bits>
   return sphere_mask<Bits>(*ctx.samples, test, clusters);
 }
 
-// MaskEngine::triangle_mask restricted to `allowed` clusters (its steps 1-7), of one triangle.
+// MaskEngine::region_mask restricted to `allowed` clusters.
 template <int Bits>
-[[nodiscard]] inline Mask<Bits> triangle_mask(const KernelContext& ctx, const PackedTriangle& tri, const Frame& frame,
-                                              std::uint64_t allowed, KernelCounters* counters) {
+[[nodiscard]] inline Mask<Bits> region_mask(const KernelContext& ctx, const glm::vec3& centre_local, float radius,
+                                            float margin, std::uint64_t allowed, KernelCounters* counters) {
+  return sphere_test_mask<Bits>(ctx, make_sphere_test(centre_local, radius, ctx.radius, margin), allowed, counters);
+}
+
+// What steps 1-6a of triangle_mask leave to the rest, for one triangle at one receiver: its
+// planes in the receiver frame (normalised units) and the cone of its clip sphere. Computed one
+// triangle at a time by triangle_setup below, or for a whole BVH leaf in lanes
+// (bvh/leaf_setup-inl.h, in the same expressions, so the bits are the same).
+struct TriangleSetup {
+  Plane face;
+  Plane edge[3];
+  float edge_length[3];
+  glm::vec3 centre;  // the bounding sphere's centre, receiver frame, world units
+  glm::vec3 axis;    // the clip sphere's cone (step 6a), when use_cone
+  float sine, cosine;
+  bool use_cone;
+};
+
+// Steps 1-6a of triangle_mask: false when the triangle is culled (it blocks no ray).
+[[nodiscard]] inline bool triangle_setup(const KernelContext& ctx, const PackedTriangle& tri, const Frame& frame,
+                                         TriangleSetup& out) {
   // 1. Into the receiver frame. The horizon test comes first: it is the cheapest and culls most.
   glm::vec3 a = frame.to_local(tri.v0);
   glm::vec3 b = frame.to_local(tri.v1);
   glm::vec3 c = frame.to_local(tri.v2);
-  if (a.z <= 0.0f && b.z <= 0.0f && c.z <= 0.0f) return {};
+  if (a.z <= 0.0f && b.z <= 0.0f && c.z <= 0.0f) return false;
   const float inv_r = ctx.inv_radius;
   a *= inv_r;
   b *= inv_r;
@@ -255,48 +276,63 @@ template <int Bits>
 
   // 2. Facing: the origin must be strictly in front of a one-sided triangle's CCW face.
   const glm::vec3 n = glm::cross(b - a, c - a);
-  if (!tri.two_sided && !(glm::dot(n, -a) > 0.0f)) return {};
+  if (!tri.two_sided && !(glm::dot(n, -a) > 0.0f)) return false;
 
   // 3. The triangle's plane: degenerate, too far (d > r), or through the origin.
   const float n_length = glm::length(n);
-  if (!(n_length > 0.0f && std::isfinite(n_length))) return {};
+  if (!(n_length > 0.0f && std::isfinite(n_length))) return false;
   const glm::vec3 unit = n / n_length;
   const float signed_d = glm::dot(unit, a);
   const float d = std::abs(signed_d);
-  if (!(d <= 1.0f) || d == 0.0f) return {};
+  if (!(d <= 1.0f) || d == 0.0f) return false;
 
   // 4. The influence sphere: the triangle's bounding sphere grown by r must hold the origin.
   const glm::vec3 centre = frame.to_local(tri.centre);
   const float reach = tri.radius + ctx.radius;
-  if (glm::dot(centre, centre) > reach * reach) return {};
+  if (glm::dot(centre, centre) > reach * reach) return false;
 
   // 5. The triangle itself within r.
-  if (origin_triangle_distance2(a, b, c) > 1.0f) return {};
+  if (origin_triangle_distance2(a, b, c) > 1.0f) return false;
 
   // 6. The four planes (see lut/mask_engine.h for the orientation by the sign of d).
   const float sign = signed_d > 0.0f ? 1.0f : -1.0f;
-  const Plane face{unit * sign, d};
-  const Plane edge[3] = {{glm::cross(a, b) * sign, 0.0f}, {glm::cross(b, c) * sign, 0.0f}, {glm::cross(c, a) * sign, 0.0f}};
-  float edge_length[3];
+  out.face = Plane{unit * sign, d};
+  out.edge[0] = {glm::cross(a, b) * sign, 0.0f};
+  out.edge[1] = {glm::cross(b, c) * sign, 0.0f};
+  out.edge[2] = {glm::cross(c, a) * sign, 0.0f};
   for (int e = 0; e < 3; ++e) {
-    const float length2 = glm::dot(edge[e].m, edge[e].m);
-    if (!(length2 > 1e-30f && length2 <= std::numeric_limits<float>::max())) return {};
-    edge_length[e] = std::sqrt(length2);
+    const float length2 = glm::dot(out.edge[e].m, out.edge[e].m);
+    if (!(length2 > 1e-30f && length2 <= std::numeric_limits<float>::max())) return false;
+    out.edge_length[e] = std::sqrt(length2);
   }
+  out.centre = centre;
+
+  // 6a. The cone of the clip sphere, in float with the sine rounded up and the cosine down.
+  const glm::vec3 cn = centre * inv_r;
+  const float len = std::sqrt(glm::dot(cn, cn));
+  const float grown = (tri.radius * inv_r + kTriangleMargin * len) * (1.0f + 1e-5f);
+  const float sine = grown / len * (1.0f + 1e-5f);
+  out.use_cone = len > grown && sine < 0.999f;
+  out.axis = out.use_cone ? cn / len : glm::vec3(0.0f);
+  out.sine = sine;
+  out.cosine = out.use_cone ? std::sqrt(1.0f - sine * sine) * (1.0f - 1e-6f) : -1.0f;
+  return true;
+}
+
+// Steps 6a-7 of triangle_mask, after triangle_setup (or the leaf's set-up in lanes) has let the
+// triangle through.
+template <int Bits>
+[[nodiscard]] inline Mask<Bits> triangle_finish(const KernelContext& ctx, const PackedTriangle& tri,
+                                                const TriangleSetup& s, const Frame& frame, std::uint64_t allowed,
+                                                KernelCounters* counters) {
+  const Plane& face = s.face;
+  const Plane(&edge)[3] = s.edge;
   std::uint64_t clusters = allowed & kAllClusters<Bits>;
   if (ctx.cull_clusters && clusters) {
     // 6a. The clusters the triangle can reach: its edge planes (exact masks only: a table's
-    //     planes carry cells' errors) and the cone of its clip sphere (both modes), in float
-    //     with the sine rounded up and the cosine down.
-    const glm::vec3 cn = centre * inv_r;
-    const float len = std::sqrt(glm::dot(cn, cn));
-    const float grown = (tri.radius * inv_r + kTriangleMargin * len) * (1.0f + 1e-5f);
-    const float sine = grown / len * (1.0f + 1e-5f);
-    const bool use_cone = len > grown && sine < 0.999f;
-    const glm::vec3 axis = use_cone ? cn / len : glm::vec3(0.0f);
-    const float cosine = use_cone ? std::sqrt(1.0f - sine * sine) * (1.0f - 1e-6f) : -1.0f;
+    //     planes carry cells' errors) and the cone of its clip sphere (both modes).
     NearCells cells;
-    if (ctx.exact && use_cone && near_cells(*ctx.samples, axis, sine, cosine - ctx.cluster_slack, cells)) {
+    if (ctx.exact && s.use_cone && near_cells(*ctx.samples, s.axis, s.sine, s.cosine - ctx.cluster_slack, cells)) {
       // 6b/7 for a small cone: the planes, then the clip, on the near samples only.
       Mask<Bits> mask;
       int tested = 0;
@@ -310,7 +346,7 @@ template <int Bits>
       }
       if (mask.none()) return mask;
       if (origin_on_plane(tri.v0, tri.v1, tri.v2, frame.origin)) return {};  // 6b
-      const SphereTest clip = make_sphere_test(centre, tri.radius, ctx.radius, kTriangleMargin);
+      const SphereTest clip = make_sphere_test(s.centre, tri.radius, ctx.radius, kTriangleMargin);
       if (clip.kind == SphereTest::Kind::All) return mask;
       Mask<Bits> clipped;
       for (int w = 0; w < Mask<Bits>::kWords; ++w) {
@@ -322,9 +358,10 @@ template <int Bits>
       return clipped;
     }
     if (ctx.exact) {
-      clusters &= triangle_reach<Bits>(*ctx.samples, edge, edge_length, use_cone, axis, cosine, sine, ctx.cluster_slack);
-    } else if (use_cone) {
-      clusters &= sphere_reach<Bits>(*ctx.samples, axis, cosine, sine, ctx.cluster_slack);
+      clusters &= triangle_reach<Bits>(*ctx.samples, edge, s.edge_length, s.use_cone, s.axis, s.cosine, s.sine,
+                                       ctx.cluster_slack);
+    } else if (s.use_cone) {
+      clusters &= sphere_reach<Bits>(*ctx.samples, s.axis, s.cosine, s.sine, ctx.cluster_slack);
     }
   }
   if (counters) {
@@ -351,13 +388,22 @@ template <int Bits>
   if (origin_on_plane(tri.v0, tri.v1, tri.v2, frame.origin)) return {};
 
   // 7. The clip by the triangle's own sphere (nothing to clip when the origin is inside it).
-  const SphereTest clip = make_sphere_test(centre, tri.radius, ctx.radius, kTriangleMargin);
+  const SphereTest clip = make_sphere_test(s.centre, tri.radius, ctx.radius, kTriangleMargin);
   if (clip.kind == SphereTest::Kind::All) return mask;
   if (counters) {
     ++counters->sphere_masks;
     counters->cluster_tests += static_cast<std::uint64_t>(std::popcount(occupied_clusters(mask)));
   }
   return mask & sphere_mask<Bits>(*ctx.samples, clip, occupied_clusters(mask));
+}
+
+// MaskEngine::triangle_mask restricted to `allowed` clusters (its steps 1-7), of one triangle.
+template <int Bits>
+[[nodiscard]] inline Mask<Bits> triangle_mask(const KernelContext& ctx, const PackedTriangle& tri, const Frame& frame,
+                                              std::uint64_t allowed, KernelCounters* counters) {
+  TriangleSetup setup;
+  if (!triangle_setup(ctx, tri, frame, setup)) return {};
+  return triangle_finish<Bits>(ctx, tri, setup, frame, allowed, counters);
 }
 
 // The same for triangle t of a TriangleSet.
@@ -435,56 +481,37 @@ template <int Bits>
   return out;
 }
 
-// Steps 1-4 of the certain kernels (bvh/traverse-inl.h, certain_setup_block, for a whole leaf
-// in lanes), and what they leave to the rest: the triangle in the receiver frame. (triangle_mask's step 5, the exact distance, is only a cull: a triangle farther than r
-// reaches no sample point, so its planes' masks are empty anyway; the certain kernels leave it
-// out, and the leaf set-up in lanes with it.)
+// What the set-up of the certain kernels (bvh/leaf_setup-inl.h, for a whole leaf in lanes: steps
+// 1-6a with r grown by g) leaves to certain_finish, in normalised units. (triangle_mask's step 5,
+// the exact distance, is only a cull: a triangle farther than r reaches no sample point, so its
+// planes' masks are empty anyway; the certain set-up leaves it out.)
 struct CertainSetup {
-  glm::vec3 a, b, c;  // vertices, receiver frame, normalised units
-  glm::vec3 n;        // cross(b - a, c - a)
-  glm::vec3 unit;     // n / |n|
-  float signed_d;     // dot(unit, a)
-  glm::vec3 centre;   // the bounding sphere's centre, receiver frame, world units
+  Plane face;             // oriented by the sign of the plane distance, d = |distance|
+  Plane edge[3];          // the edge planes (d = 0)
+  float edge_length[3];   // |m_e|
+  float margin[3];        // (g / d) |m_e|, rounded up: the sure and maybe thresholds
+  float widen;            // g / d, rounded up: the extra slack of the edge cull
+  glm::vec3 axis;         // the cone of the bounding sphere grown by g, when use_cone
+  float cone_cos, cone_sin;
+  bool use_cone;
+  bool flat;              // the origin (numerically) on the plane or on an edge line: nothing is sure
 };
 
 /// The sure and maybe masks of one triangle at the receiver of `frame`, for the clusters of
 /// `allowed`; `g_world` is 2 delta in world units (bvh/traverse-inl.h computes it per receiver),
-/// after steps 1-4 (certain_setup_block) have let it through.
+/// after the set-up has let it through.
 template <int Bits>
 [[nodiscard]] inline CertainMasks<Bits> certain_finish(const KernelContext& ctx, const PackedTriangle& tri,
                                                        const CertainSetup& s, const Frame& frame, float g_world,
                                                        std::uint64_t allowed, KernelCounters* counters) {
   const float g = g_world * ctx.inv_radius;
-  const glm::vec3& a = s.a;
-  const glm::vec3& b = s.b;
-  const glm::vec3& c = s.c;
-  const glm::vec3& unit = s.unit;
-  const glm::vec3& centre = s.centre;
-  const float signed_d = s.signed_d;
-  const float d = std::abs(signed_d);
-  const bool near = d < g;
-
-  // 6. The planes and their margins.
-  const float sign = signed_d > 0.0f ? 1.0f : -1.0f;
-  const Plane face{unit * sign, d};
-  const Plane edge[3] = {{glm::cross(a, b) * sign, 0.0f}, {glm::cross(b, c) * sign, 0.0f}, {glm::cross(c, a) * sign, 0.0f}};
-  float edge_length[3], margin[3];
-  bool flat = near;  // an edge through (or numerically at) the origin decides nothing for sure
-  for (int e = 0; e < 3; ++e) {
-    const float length2 = glm::dot(edge[e].m, edge[e].m);
-    if (!(length2 > 1e-30f && length2 <= std::numeric_limits<float>::max())) flat = true;
-    edge_length[e] = std::sqrt(length2);
-    margin[e] = flat ? 0.0f : g / d * edge_length[e] * (1.0f + 1e-5f);
-  }
-
-  // 6a. The clusters the grown sphere reaches, and (away from the plane) the widened edge planes.
-  const SphereTest grown = make_sphere_test(centre, tri.radius + g_world, ctx.radius, kTriangleMargin);
-  if (grown.kind == SphereTest::Kind::None) return {};
-  const bool use_cone = grown.kind == SphereTest::Kind::Rays && grown.cone_sin < 1.0f;
+  const Plane& face = s.face;
+  const Plane(&edge)[3] = s.edge;
+  const float(&margin)[3] = s.margin;
   CertainMasks<Bits> out;
   NearCells cells;
-  if (!flat && use_cone && ctx.cull_clusters &&
-      near_cells(*ctx.samples, grown.axis, grown.cone_sin, grown.cone_cos - ctx.cluster_slack, cells)) {
+  if (!s.flat && s.use_cone && ctx.cull_clusters &&
+      near_cells(*ctx.samples, s.axis, s.cone_sin, s.cone_cos - ctx.cluster_slack, cells)) {
     // A small cone: its few candidate samples one by one (the cells' proof above holds for the
     //  grown sphere's cone), with the same expressions as the lanes.
     const SampleArrays& samples = *ctx.samples;
@@ -507,14 +534,14 @@ template <int Bits>
   }
   std::uint64_t clusters = allowed & kAllClusters<Bits>;
   if (ctx.cull_clusters && clusters) {
-    if (flat) {
-      if (use_cone) clusters &= sphere_reach<Bits>(*ctx.samples, grown.axis, grown.cone_cos, grown.cone_sin, ctx.cluster_slack);
+    if (s.flat) {
+      if (s.use_cone) clusters &= sphere_reach<Bits>(*ctx.samples, s.axis, s.cone_cos, s.cone_sin, ctx.cluster_slack);
     } else {
       // The edge cull of triangle_reach proves dot(m^_e, w) < -kClusterSlack for every ray of a
       // cluster; widened by g / d it proves dot(m^_e, w) < -(g / d), below the maybe threshold
       // for every sample point s = l w (l <= 1) as well.
-      clusters &= triangle_reach<Bits>(*ctx.samples, edge, edge_length, use_cone, grown.axis, grown.cone_cos,
-                                       grown.cone_sin, ctx.cluster_slack + g / d * (1.0f + 1e-5f));
+      clusters &= triangle_reach<Bits>(*ctx.samples, edge, s.edge_length, s.use_cone, s.axis, s.cone_cos, s.cone_sin,
+                                       ctx.cluster_slack + s.widen);
     }
   }
   if (counters) {
@@ -522,7 +549,7 @@ template <int Bits>
     counters->cluster_tests += static_cast<std::uint64_t>(std::popcount(clusters));
   }
   if (!clusters) return {};
-  if (flat) {
+  if (s.flat) {
     out.maybe = cluster_bits<Bits>(clusters) & Mask<Bits>::ones(ctx.samples->count());
   } else {
     out = certain_planes_masks<Bits>(*ctx.samples, edge, margin, face, g, clusters);
@@ -532,4 +559,3 @@ template <int Bits>
   if (origin_on_plane(tri.v0, tri.v1, tri.v2, frame.origin)) return {};
   return out;
 }
-

@@ -10,8 +10,9 @@
 // NaN, which fails every comparison, so their bits stay zero.
 
 // Lanes8 is the same over 8 floats (the scalar twin: 1), for the set-up of a BVH leaf of up to
-// 8 triangles, lane = triangle (bvh/traverse-inl.h): AVX at the AVX2 and AVX-512 levels, SSE
-// (4 lanes, two steps) below, one lane for the scalar twin.
+// 8 triangles, lane = triangle (bvh/leaf_setup-inl.h): AVX at the AVX2 and AVX-512 levels, SSE
+// (4 lanes, two steps) below, one lane for the scalar twin. Lanes4 is SSE (or one lane), for the
+// four children of a BVH node (bvh/node_setup-inl.h).
 #if EXAO_KERNEL_LANES == 1
 // One lane: the scalar twin, the definition the vector lanes reproduce.
 struct Lanes {
@@ -39,8 +40,12 @@ struct Lanes {
   static M either(M a, M b) { return a || b; }
   static M not_(M a) { return !a; }
   static M from_bits(std::uint32_t b) { return (b & 1u) != 0; }
+  static F select(M m, F if_true, F if_false) { return m ? if_true : if_false; }
+  static F neg(F a) { return -a; }
+  static F loadu(const float* p) { return *p; }
 };
 using Lanes8 = Lanes;
+using Lanes4 = Lanes;
 #elif EXAO_KERNEL_LANES == 16
 struct Lanes {
   static constexpr int kWidth = 16;
@@ -98,6 +103,42 @@ struct Lanes {
 #error "EXAO_KERNEL_LANES must be 1, 4, 8 or 16 (include lut/kernel_target.h first)"
 #endif
 
+#if EXAO_KERNEL_LANES >= 4
+// Four floats in SSE registers: Lanes8 below AVX, and Lanes4 (a node's children) at every vector level.
+struct LanesSse {
+  static constexpr int kWidth = 4;
+  using F = __m128;
+  using M = __m128;
+  static F load(const float* p) { return _mm_load_ps(p); }
+  static F loadu(const float* p) { return _mm_loadu_ps(p); }
+  static F max(F a, F b) { return _mm_max_ps(a, b); }
+  static F set(float x) { return _mm_set1_ps(x); }
+  static F add(F a, F b) { return _mm_add_ps(a, b); }
+  static F sub(F a, F b) { return _mm_sub_ps(a, b); }
+  static F mul(F a, F b) { return _mm_mul_ps(a, b); }
+  static F div(F a, F b) { return _mm_div_ps(a, b); }
+  static F sqrt(F a) { return _mm_sqrt_ps(a); }
+  static F abs(F a) { return _mm_andnot_ps(_mm_set1_ps(-0.0f), a); }
+  static M ge(F a, F b) { return _mm_cmpge_ps(a, b); }
+  static M le(F a, F b) { return _mm_cmple_ps(a, b); }
+  static M gt(F a, F b) { return _mm_cmpgt_ps(a, b); }
+  static M lt(F a, F b) { return _mm_cmplt_ps(a, b); }
+  static M both(M a, M b) { return _mm_and_ps(a, b); }
+  static M either(M a, M b) { return _mm_or_ps(a, b); }
+  static M not_(M a) { return _mm_xor_ps(a, _mm_castsi128_ps(_mm_set1_epi32(-1))); }
+  static M from_bits(std::uint32_t b) {
+    const __m128i bit = _mm_setr_epi32(1, 2, 4, 8);
+    return _mm_castsi128_ps(_mm_cmpeq_epi32(_mm_and_si128(_mm_set1_epi32(static_cast<int>(b)), bit), bit));
+  }
+  // SSE2 has no blendv.
+  static F select(M m, F if_true, F if_false) { return _mm_or_ps(_mm_and_ps(m, if_true), _mm_andnot_ps(m, if_false)); }
+  static F neg(F a) { return _mm_xor_ps(a, _mm_set1_ps(-0.0f)); }
+  static void store(float* p, F a) { _mm_store_ps(p, a); }
+  static std::uint64_t bits(M m) { return static_cast<std::uint32_t>(_mm_movemask_ps(m)); }
+};
+using Lanes4 = LanesSse;
+#endif
+
 #if EXAO_KERNEL_LANES >= 8
 struct Lanes8 {
   static constexpr int kWidth = 8;
@@ -122,34 +163,11 @@ struct Lanes8 {
     const __m256i bit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
     return _mm256_castsi256_ps(_mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(static_cast<int>(b)), bit), bit));
   }
+  static F select(M m, F if_true, F if_false) { return _mm256_blendv_ps(if_false, if_true, m); }
+  static F neg(F a) { return _mm256_xor_ps(a, _mm256_set1_ps(-0.0f)); }
   static void store(float* p, F a) { _mm256_store_ps(p, a); }
   static std::uint64_t bits(M m) { return static_cast<std::uint32_t>(_mm256_movemask_ps(m)); }
 };
 #elif EXAO_KERNEL_LANES == 4
-struct Lanes8 {
-  static constexpr int kWidth = 4;
-  using F = __m128;
-  using M = __m128;
-  static F load(const float* p) { return _mm_load_ps(p); }
-  static F set(float x) { return _mm_set1_ps(x); }
-  static F add(F a, F b) { return _mm_add_ps(a, b); }
-  static F sub(F a, F b) { return _mm_sub_ps(a, b); }
-  static F mul(F a, F b) { return _mm_mul_ps(a, b); }
-  static F div(F a, F b) { return _mm_div_ps(a, b); }
-  static F sqrt(F a) { return _mm_sqrt_ps(a); }
-  static F abs(F a) { return _mm_andnot_ps(_mm_set1_ps(-0.0f), a); }
-  static M ge(F a, F b) { return _mm_cmpge_ps(a, b); }
-  static M le(F a, F b) { return _mm_cmple_ps(a, b); }
-  static M gt(F a, F b) { return _mm_cmpgt_ps(a, b); }
-  static M lt(F a, F b) { return _mm_cmplt_ps(a, b); }
-  static M both(M a, M b) { return _mm_and_ps(a, b); }
-  static M either(M a, M b) { return _mm_or_ps(a, b); }
-  static M not_(M a) { return _mm_xor_ps(a, _mm_castsi128_ps(_mm_set1_epi32(-1))); }
-  static M from_bits(std::uint32_t b) {
-    const __m128i bit = _mm_setr_epi32(1, 2, 4, 8);
-    return _mm_castsi128_ps(_mm_cmpeq_epi32(_mm_and_si128(_mm_set1_epi32(static_cast<int>(b)), bit), bit));
-  }
-  static void store(float* p, F a) { _mm_store_ps(p, a); }
-  static std::uint64_t bits(M m) { return static_cast<std::uint32_t>(_mm_movemask_ps(m)); }
-};
+using Lanes8 = LanesSse;
 #endif

@@ -11,6 +11,8 @@
 #include "core/random.h"
 #include "core/receiver_frame.h"
 #include "core/shadow_rays.h"
+#include "bvh/bvh.h"
+#include "bvh/traverse.h"
 #include "lut/mask_engine.h"
 
 namespace exao::lut {
@@ -238,6 +240,64 @@ TEST(TriangleMask, EveryInstructionSetEqualsTheScalarTwin) {
             ASSERT_EQ(and_not(vector, engine.all_rays<Bits>()).popcount(), 0);
           }
           EXPECT_GT(nonempty, 100) << n;
+        });
+      }
+    }
+  }
+}
+
+// The BVH traversal sets up a leaf's triangles in lanes (bvh/leaf_setup-inl.h) and finishes each
+// with lut's kernel: every triangle's mask must be the one-triangle kernel's, bit for bit, at
+// every N, in both mask modes, for every cluster subset, on every instruction set; the scene
+// mixes sizes, orientations, one- and two-sided triangles, slivers and triangles through the
+// receiver, so that every cull of the set-up decides some lane.
+TEST(TriangleMask, LeafSetupInLanesEqualsTheOneTriangleKernel) {
+  Rng scene_rng(7);
+  Scene scene;
+  const float r = 1.5f;
+  for (int t = 0; t < 160; ++t) {
+    const glm::dvec3 middle = random_in_box(scene_rng, glm::dvec3(-1.2 * r), glm::dvec3(1.2 * r));
+    const double size = r * std::pow(10.0, -2.0 + 2.3 * scene_rng.uniform());
+    glm::dvec3 a = middle + size * random_unit(scene_rng), b = middle + size * random_unit(scene_rng);
+    glm::dvec3 c = middle + size * random_unit(scene_rng);
+    if (t % 10 == 3) c = a + (b - a) * 0.5 + 1e-7 * random_unit(scene_rng);  // a sliver
+    scene.add_triangle(glm::vec3(a), glm::vec3(b), glm::vec3(c), scene_rng.uniform() < 0.5, 0);
+  }
+  const TriangleSet set = TriangleSet::build(scene);
+  auto built = bvh::Bvh::build(set, {4, 8});
+  ASSERT_TRUE(built) << built.error().message;
+  const bvh::Bvh& tree = *built;
+  for (const int n : {32, 64, 128, 256, 512, 1024}) {
+    const ShadowRays rays = rays_of(n, Falloff::Linear, r);
+    for (const MaskMode mode : {MaskMode::Exact, MaskMode::Lut}) {
+      for (const Isa isa : supported_isas()) {
+        auto made = MaskEngine::build(rays, mode, 24, isa);
+        ASSERT_TRUE(made);
+        const MaskEngine& engine = *made;
+        Rng rng(static_cast<std::uint64_t>(n) * 31 + static_cast<std::uint64_t>(isa));
+        with_mask_bits(n, [&](auto bits) {
+          constexpr int Bits = decltype(bits)::value;
+          int nonempty = 0;
+          for (int trial = 0; trial < 40; ++trial) {
+            // Receivers inside the cloud (a few on a triangle's own vertex).
+            Frame frame = random_frame(rng, rays, r);
+            if (trial % 8 == 0) frame.origin = tree.triangles.v1[rng.next() % tree.triangles.size()];
+            const std::uint64_t allowed = trial % 2 ? kAllClusters<Bits> : (rng.next() & kAllClusters<Bits>);
+            for (const bvh::Node& node : tree.nodes) {
+              for (int k = 0; k < node.child_count; ++k) {
+                if (node.leaf_size[k] == 0) continue;
+                Mask<Bits> lanes[bvh::LeafBlock::kLanes];
+                bvh::leaf_masks<Bits>(tree, engine, frame, node.child[k], node.leaf_size[k], allowed, lanes);
+                for (int l = 0; l < node.leaf_size[k]; ++l) {
+                  const Mask<Bits> one = engine.triangle_mask<Bits>(tree.triangles, node.child[k] + l, frame, allowed);
+                  nonempty += one.any();
+                  ASSERT_EQ(lanes[l], one) << isa_name(isa) << " N " << n << " trial " << trial << " triangle "
+                                           << node.child[k] + l;
+                }
+              }
+            }
+          }
+          EXPECT_GT(nonempty, 50) << isa_name(isa) << ' ' << n;
         });
       }
     }

@@ -1,0 +1,245 @@
+// The set-up of every triangle of a BVH leaf at once, lane = triangle (bvh::LeafBlock): steps
+// 1-6a of lut's triangle_mask for the pure traversal, and the same for the certain kernels of
+// `auto`. Included by bvh/traverse_isa.cpp inside namespace EXAO_KERNEL_NS, after
+// lut/kernels-inl.h (so no include guard, and it includes nothing).
+//
+// Pure: every lane evaluates exactly the expressions of lut's triangle_setup (Frame::to_local
+// is dot3<L>(v - o, axis); glm's dot is (x + y) + z; cross the usual three differences; a vector
+// over a scalar divides each component; no FMA), and a lane is live exactly when triangle_setup
+// returns true, so the masks that follow are the same bits as triangle_mask's, hence brute's
+// (tests/triangle_mask_test.cpp checks it on every N and every level).
+// Certain: the same steps with r grown by g (lut/kernels-inl.h, "Certain masks"); nothing needs
+// these bits to equal anything, only to be conservative, since every ray they leave undecided is
+// cast with Embree.
+
+struct alignas(32) LeafSetup {
+  static constexpr int kLanes = LeafBlock::kLanes;
+  float fx[kLanes], fy[kLanes], fz[kLanes], fd[kLanes];  // the face plane
+  float ex[3][kLanes], ey[3][kLanes], ez[3][kLanes];     // the edge planes (d = 0)
+  float length[3][kLanes];                               // |m_e|
+  float ox[kLanes], oy[kLanes], oz[kLanes];              // the sphere's centre, receiver frame, world units
+  float axis_x[kLanes], axis_y[kLanes], axis_z[kLanes];  // the cone of step 6a
+  float sine[kLanes], cosine[kLanes];
+  float margin[3][kLanes];  // certain: the sure/maybe margins of the edge planes
+  float widen[kLanes];      // certain: g / d, the edge cull's extra slack
+  std::uint32_t use_cone = 0;  // bit l: lane l has a cone (set by leaf_setup)
+  std::uint32_t flat = 0;      // certain: bit l: lane l decides nothing for sure
+
+  [[nodiscard]] TriangleSetup pure(int l) const {
+    TriangleSetup s;
+    s.face = {{fx[l], fy[l], fz[l]}, fd[l]};
+    for (int e = 0; e < 3; ++e) {
+      s.edge[e] = {{ex[e][l], ey[e][l], ez[e][l]}, 0.0f};
+      s.edge_length[e] = length[e][l];
+    }
+    s.centre = {ox[l], oy[l], oz[l]};
+    s.axis = {axis_x[l], axis_y[l], axis_z[l]};
+    s.sine = sine[l];
+    s.cosine = cosine[l];
+    s.use_cone = (use_cone >> l) & 1u;
+    return s;
+  }
+
+  [[nodiscard]] CertainSetup certain(int l) const {
+    CertainSetup s;
+    s.face = {{fx[l], fy[l], fz[l]}, fd[l]};
+    for (int e = 0; e < 3; ++e) {
+      s.edge[e] = {{ex[e][l], ey[e][l], ez[e][l]}, 0.0f};
+      s.edge_length[e] = length[e][l];
+      s.margin[e] = margin[e][l];
+    }
+    s.axis = {axis_x[l], axis_y[l], axis_z[l]};
+    s.cone_sin = sine[l];
+    s.cone_cos = cosine[l];
+    s.widen = widen[l];
+    s.use_cone = (use_cone >> l) & 1u;
+    s.flat = (flat >> l) & 1u;
+    return s;
+  }
+};
+
+// (x0, y0, z0) . (x1, y1, z1) as glm's dot: (x + y) + z. (Functions, not lambdas: a lambda
+// does not take the translation unit's target pragma, and GCC then warns about its vector ABI.)
+template <class L>
+[[nodiscard, gnu::always_inline]] inline typename L::F dot3(typename L::F x0, typename L::F y0, typename L::F z0,
+                                                            typename L::F x1, typename L::F y1, typename L::F z1) {
+  return L::add(L::add(L::mul(x0, x1), L::mul(y0, y1)), L::mul(z0, z1));
+}
+template <class L>
+[[nodiscard, gnu::always_inline]] inline typename L::F length2_3(typename L::F x, typename L::F y, typename L::F z) {
+  return dot3<L>(x, y, z, x, y, z);
+}
+
+// Ericson's distance from the origin to triangle (a, b, c) in lanes: origin_triangle_distance2
+// (lut/mask_kernels.h) with every Voronoi region's value computed and the first region that
+// holds chosen, as its early returns choose.
+template <class L>
+[[nodiscard]] inline typename L::F origin_triangle_distance2_lanes(typename L::F ax, typename L::F ay, typename L::F az,
+                                                                   typename L::F bx, typename L::F by, typename L::F bz,
+                                                                   typename L::F cx, typename L::F cy, typename L::F cz) {
+  using F = typename L::F;
+  const auto zero = L::set(0.0f);
+  const F abx = L::sub(bx, ax), aby = L::sub(by, ay), abz = L::sub(bz, az);
+  const F acx = L::sub(cx, ax), acy = L::sub(cy, ay), acz = L::sub(cz, az);
+  const F d1 = L::neg(dot3<L>(abx, aby, abz, ax, ay, az)), d2 = L::neg(dot3<L>(acx, acy, acz, ax, ay, az));
+  const F d3 = L::neg(dot3<L>(abx, aby, abz, bx, by, bz)), d4 = L::neg(dot3<L>(acx, acy, acz, bx, by, bz));
+  const F d5 = L::neg(dot3<L>(abx, aby, abz, cx, cy, cz)), d6 = L::neg(dot3<L>(acx, acy, acz, cx, cy, cz));
+  const F vc = L::sub(L::mul(d1, d4), L::mul(d3, d2));
+  const F vb = L::sub(L::mul(d5, d2), L::mul(d1, d6));
+  const F va = L::sub(L::mul(d3, d6), L::mul(d5, d4));
+  // The interior (the last return), then each region from the last to the first, so the first
+  // that holds wins.
+  const F denom = L::div(L::set(1.0f), L::add(L::add(va, vb), vc));
+  const F s1 = L::mul(vb, denom), s2 = L::mul(vc, denom);
+  F result = length2_3<L>(L::add(L::add(ax, L::mul(abx, s1)), L::mul(acx, s2)),
+                   L::add(L::add(ay, L::mul(aby, s1)), L::mul(acy, s2)),
+                   L::add(L::add(az, L::mul(abz, s1)), L::mul(acz, s2)));
+  const F d43 = L::sub(d4, d3), d56 = L::sub(d5, d6);
+  {
+    const F t = L::div(d43, L::add(d43, d56));
+    const F v = length2_3<L>(L::add(bx, L::mul(t, L::sub(cx, bx))), L::add(by, L::mul(t, L::sub(cy, by))),
+                      L::add(bz, L::mul(t, L::sub(cz, bz))));
+    result = L::select(L::both(L::le(va, zero), L::both(L::ge(d43, zero), L::ge(d56, zero))), v, result);
+  }
+  {
+    const F t = L::div(d2, L::sub(d2, d6));
+    const F v = length2_3<L>(L::add(ax, L::mul(t, acx)), L::add(ay, L::mul(t, acy)), L::add(az, L::mul(t, acz)));
+    result = L::select(L::both(L::le(vb, zero), L::both(L::ge(d2, zero), L::le(d6, zero))), v, result);
+  }
+  result = L::select(L::both(L::ge(d6, zero), L::le(d5, d6)), length2_3<L>(cx, cy, cz), result);
+  {
+    const F t = L::div(d1, L::sub(d1, d3));
+    const F v = length2_3<L>(L::add(ax, L::mul(t, abx)), L::add(ay, L::mul(t, aby)), L::add(az, L::mul(t, abz)));
+    result = L::select(L::both(L::le(vc, zero), L::both(L::ge(d1, zero), L::le(d3, zero))), v, result);
+  }
+  result = L::select(L::both(L::ge(d3, zero), L::le(d4, d3)), length2_3<L>(bx, by, bz), result);
+  result = L::select(L::both(L::le(d1, zero), L::le(d2, zero)), length2_3<L>(ax, ay, az), result);
+  return result;
+}
+
+// The set-up of every triangle of `leaf` at the receiver of `frame`; returns the live lanes
+// (bit l: triangle l may block a ray). g_world (certain only) is 2 delta in world units.
+template <bool Certain>
+[[nodiscard]] inline std::uint32_t leaf_setup(const KernelContext& ctx, const LeafBlock& leaf, const Frame& frame,
+                                              float g_world, LeafSetup& out) {
+  using L = Lanes8;
+  using F = typename L::F;
+  const F ox = L::set(frame.origin.x), oy = L::set(frame.origin.y), oz = L::set(frame.origin.z);
+  const F tx = L::set(frame.tangent.x), ty = L::set(frame.tangent.y), tz = L::set(frame.tangent.z);
+  const F bx = L::set(frame.bitangent.x), by = L::set(frame.bitangent.y), bz = L::set(frame.bitangent.z);
+  const F nx = L::set(frame.normal.x), ny = L::set(frame.normal.y), nz = L::set(frame.normal.z);
+  const F inv_r = L::set(ctx.inv_radius);
+  const F zero = L::set(0.0f), one = L::set(1.0f), big = L::set(std::numeric_limits<float>::max());
+  const float g_n = g_world * ctx.inv_radius;
+  const F g = L::set(g_n);
+  std::uint32_t live = 0;
+  out.use_cone = 0;
+  out.flat = 0;
+  for (int l = 0; l < LeafBlock::kLanes; l += L::kWidth) {
+    // 1. Into the receiver frame; the horizon (grown by g for certain).
+    const auto local = [&](const float* x, const float* y, const float* z, F& lx, F& ly, F& lz) {
+      const F dx = L::sub(L::load(x + l), ox), dy = L::sub(L::load(y + l), oy), dz = L::sub(L::load(z + l), oz);
+      lx = L::add(L::add(L::mul(dx, tx), L::mul(dy, ty)), L::mul(dz, tz));
+      ly = L::add(L::add(L::mul(dx, bx), L::mul(dy, by)), L::mul(dz, bz));
+      lz = L::add(L::add(L::mul(dx, nx), L::mul(dy, ny)), L::mul(dz, nz));
+    };
+    F ax, ay, az, bx_, by_, bz_, cx, cy, cz, ccx, ccy, ccz;
+    local(leaf.v0x, leaf.v0y, leaf.v0z, ax, ay, az);
+    local(leaf.v1x, leaf.v1y, leaf.v1z, bx_, by_, bz_);
+    local(leaf.v2x, leaf.v2y, leaf.v2z, cx, cy, cz);
+    const F horizon = Certain ? L::set(-g_world) : zero;
+    auto ok = L::not_(L::both(L::both(L::le(az, horizon), L::le(bz_, horizon)), L::le(cz, horizon)));
+    ax = L::mul(ax, inv_r), ay = L::mul(ay, inv_r), az = L::mul(az, inv_r);
+    bx_ = L::mul(bx_, inv_r), by_ = L::mul(by_, inv_r), bz_ = L::mul(bz_, inv_r);
+    cx = L::mul(cx, inv_r), cy = L::mul(cy, inv_r), cz = L::mul(cz, inv_r);
+    // 2-3. n = cross(b - a, c - a), the facing, |n|, the unit normal and the plane distance.
+    const F ex = L::sub(bx_, ax), ey = L::sub(by_, ay), ez = L::sub(bz_, az);
+    const F fx = L::sub(cx, ax), fy = L::sub(cy, ay), fz = L::sub(cz, az);
+    const F n_x = L::sub(L::mul(ey, fz), L::mul(fy, ez));
+    const F n_y = L::sub(L::mul(ez, fx), L::mul(fz, ex));
+    const F n_z = L::sub(L::mul(ex, fy), L::mul(fx, ey));
+    const auto facing = L::gt(dot3<L>(n_x, n_y, n_z, L::neg(ax), L::neg(ay), L::neg(az)), zero);
+    const auto two_sided = L::from_bits(leaf.two_sided >> l);
+    const F n_length = L::sqrt(dot3<L>(n_x, n_y, n_z, n_x, n_y, n_z));
+    ok = L::both(ok, L::both(L::gt(n_length, zero), L::le(n_length, big)));
+    const F ux = L::div(n_x, n_length), uy = L::div(n_y, n_length), uz = L::div(n_z, n_length);
+    const F sd = dot3<L>(ux, uy, uz, ax, ay, az);
+    const F d = L::abs(sd);
+    if constexpr (Certain) {
+      ok = L::both(ok, L::le(d, L::set(1.0f + g_n)));
+      ok = L::both(ok, L::either(L::either(L::lt(d, g), two_sided), facing));
+    } else {
+      ok = L::both(ok, L::either(two_sided, facing));
+      ok = L::both(ok, L::both(L::le(d, one), L::gt(d, zero)));
+    }
+    // 4. The influence sphere.
+    local(leaf.cx, leaf.cy, leaf.cz, ccx, ccy, ccz);
+    const F reach = L::add(L::load(leaf.radius + l), L::set(Certain ? ctx.radius + g_world : ctx.radius));
+    ok = L::both(ok, L::le(dot3<L>(ccx, ccy, ccz, ccx, ccy, ccz), L::mul(reach, reach)));
+    // 5. The triangle itself within r (pure only: it is only a cull, see CertainSetup).
+    if constexpr (!Certain) ok = L::both(ok, L::le(origin_triangle_distance2_lanes<L>(ax, ay, az, bx_, by_, bz_, cx, cy, cz), one));
+    // 6. The four planes, oriented by the sign of the plane distance.
+    const F sign = L::select(L::gt(sd, zero), one, L::set(-1.0f));
+    L::store(out.fx + l, L::mul(ux, sign)), L::store(out.fy + l, L::mul(uy, sign)), L::store(out.fz + l, L::mul(uz, sign));
+    L::store(out.fd + l, d);
+    const F* const va[3][3] = {{&ax, &ay, &az}, {&bx_, &by_, &bz_}, {&cx, &cy, &cz}};
+    auto valid = ok;
+    F length[3];
+    for (int e = 0; e < 3; ++e) {
+      const F px = *va[e][0], py = *va[e][1], pz = *va[e][2];
+      const F qx = *va[(e + 1) % 3][0], qy = *va[(e + 1) % 3][1], qz = *va[(e + 1) % 3][2];
+      const F mx = L::mul(L::sub(L::mul(py, qz), L::mul(qy, pz)), sign);
+      const F my = L::mul(L::sub(L::mul(pz, qx), L::mul(qz, px)), sign);
+      const F mz = L::mul(L::sub(L::mul(px, qy), L::mul(qx, py)), sign);
+      const F length2 = dot3<L>(mx, my, mz, mx, my, mz);
+      valid = L::both(valid, L::both(L::gt(length2, L::set(1e-30f)), L::le(length2, big)));
+      length[e] = L::sqrt(length2);
+      L::store(out.ex[e] + l, mx), L::store(out.ey[e] + l, my), L::store(out.ez[e] + l, mz);
+      L::store(out.length[e] + l, length[e]);
+    }
+    L::store(out.ox + l, ccx), L::store(out.oy + l, ccy), L::store(out.oz + l, ccz);
+    if constexpr (Certain) {
+      // A plane through (or numerically at) the origin, or an edge through it, decides nothing
+      // for sure.
+      const auto flat = L::either(L::lt(d, g), L::not_(valid));
+      const F g_over_d = L::div(g, d);
+      for (int e = 0; e < 3; ++e) {
+        L::store(out.margin[e] + l, L::select(flat, zero, L::mul(L::mul(g_over_d, length[e]), L::set(1.0f + 1e-5f))));
+      }
+      L::store(out.widen + l, L::mul(g_over_d, L::set(1.0f + 1e-5f)));
+      out.flat |= static_cast<std::uint32_t>(L::bits(flat)) << l;
+      // 6a. The sphere grown by g (make_sphere_test's expressions): none below the horizon,
+      //     all when the origin is inside, else a cone when narrow enough.
+      const F len = L::sqrt(dot3<L>(ccx, ccy, ccz, ccx, ccy, ccz));
+      const F grown = L::mul(L::add(L::add(L::load(leaf.radius + l), L::set(g_world)), L::mul(L::set(kTriangleMargin), len)),
+                             L::set(1.0f + 1e-6f));
+      const auto rays = L::both(L::both(L::le(len, big), L::le(grown, big)), L::gt(len, L::mul(grown, L::set(1.0f + 1e-6f))));
+      ok = L::both(ok, L::not_(L::both(rays, L::lt(ccz, L::neg(grown)))));
+      const F sine = L::mul(L::div(grown, len), L::set(1.0f + 1e-5f));
+      const auto cone = L::both(rays, L::lt(sine, L::set(0.999f)));
+      L::store(out.axis_x + l, L::div(ccx, len)), L::store(out.axis_y + l, L::div(ccy, len));
+      L::store(out.axis_z + l, L::div(ccz, len));
+      L::store(out.sine + l, sine);
+      L::store(out.cosine + l, L::mul(L::sqrt(L::sub(one, L::mul(sine, sine))), L::set(1.0f - 1e-6f)));
+      out.use_cone |= static_cast<std::uint32_t>(L::bits(cone)) << l;
+    } else {
+      ok = valid;
+      // 6a. The cone of the clip sphere.
+      const F cnx = L::mul(ccx, inv_r), cny = L::mul(ccy, inv_r), cnz = L::mul(ccz, inv_r);
+      const F len = L::sqrt(dot3<L>(cnx, cny, cnz, cnx, cny, cnz));
+      const F grown = L::mul(L::add(L::mul(L::load(leaf.radius + l), inv_r), L::mul(L::set(kTriangleMargin), len)),
+                             L::set(1.0f + 1e-5f));
+      const F sine = L::mul(L::div(grown, len), L::set(1.0f + 1e-5f));
+      const auto cone = L::both(L::gt(len, grown), L::lt(sine, L::set(0.999f)));
+      L::store(out.axis_x + l, L::select(cone, L::div(cnx, len), zero));
+      L::store(out.axis_y + l, L::select(cone, L::div(cny, len), zero));
+      L::store(out.axis_z + l, L::select(cone, L::div(cnz, len), zero));
+      L::store(out.sine + l, sine);
+      L::store(out.cosine + l,
+               L::select(cone, L::mul(L::sqrt(L::sub(one, L::mul(sine, sine))), L::set(1.0f - 1e-6f)), L::set(-1.0f)));
+      out.use_cone |= static_cast<std::uint32_t>(L::bits(cone)) << l;
+    }
+    live |= static_cast<std::uint32_t>(L::bits(ok)) << l;
+  }
+  return live;
+}
