@@ -21,7 +21,7 @@
 
 #include "api/boundary.h"
 #include "core/coordinate_limit.h"
-#include "core/load_scene.h"
+#include "io/load_scene.h"
 #include "core/mask.h"
 #include "core/receiver_frame.h"
 #include "core/scene.h"

@@ -4,7 +4,7 @@
 #include <vector>
 
 #include "api/boundary.h"
-#include "core/load_scene.h"
+#include "io/load_scene.h"
 #include "core/scene.h"
 #include "exao/exao.hpp"
 

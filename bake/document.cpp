@@ -17,10 +17,10 @@
 #include "bake/gltf_access.h"
 #include "bake/scene_to_gltf.h"
 #include "core/cutouts.h"
-#include "core/gltf_cutouts.h"
-#include "core/gltf_file.h"
+#include "io/gltf_cutouts.h"
+#include "io/gltf_file.h"
 #include "core/ground_plane.h"
-#include "core/load_scene.h"
+#include "io/load_scene.h"
 
 namespace exao::bake {
 namespace {

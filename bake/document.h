@@ -34,7 +34,7 @@ class Document {
   struct Impl;  // tinygltf's model and the walk of its default scene; internal to exao_bake
 
   /// `name_or_path`: a built-in scene's name, a .gltf/.glb file (told by its extension,
-  /// case-insensitive), or another format core/load_scene.h reads (converted with `convert`).
+  /// case-insensitive), or another format io/load_scene.h reads (converted with `convert`).
   /// Fails with one line naming the file and the problem.
   [[nodiscard]] static Result<Document> open(const std::string& name_or_path, const ConvertOptions& convert = {});
 

@@ -1,5 +1,5 @@
 #pragma once
-// Reading glTF accessors safely (core/gltf_model.h, shared with the scene loader) and appending
+// Reading glTF accessors safely (io/gltf_model.h, shared with the scene loader) and appending
 // new ones: the byte-level access every part of the bake shares. Internal to exao_bake (it
 // exposes tinygltf, which the library links privately).
 
@@ -12,11 +12,11 @@
 #include <vector>
 
 #include "core/error.h"
-#include "core/gltf_model.h"
+#include "io/gltf_model.h"
 
 namespace exao::bake {
 
-// The reading side is core/gltf_model.h, shared with the scene loader.
+// The reading side is io/gltf_model.h, shared with the scene loader.
 using gltf::kByte;
 using gltf::kColorTypes;
 using gltf::kFloat;

@@ -1,8 +1,8 @@
 #pragma once
-// The default scene of a glTF model as the bake sees it: core's walk (core/gltf_walk.h), the one
+// The default scene of a glTF model as the bake sees it: core's walk (io/gltf_walk.h), the one
 // the scene loader uses too, so a bake sees the scene `exao render` sees. Internal to exao_bake.
 
-#include "core/gltf_walk.h"
+#include "io/gltf_walk.h"
 
 namespace exao::bake {
 

@@ -7,7 +7,7 @@
 #include "bake/document.h"
 #include "core/camera.h"
 #include "core/embree_reference.h"
-#include "core/image_io.h"
+#include "io/image_io.h"
 
 namespace exao::bake {
 

@@ -13,7 +13,7 @@
 #include "bake/gltf_access.h"
 #include "bake/png_encode.h"
 #include "core/atomic_write.h"
-#include "core/image_io.h"
+#include "io/image_io.h"
 
 namespace exao::bake {
 namespace {

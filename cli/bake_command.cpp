@@ -24,8 +24,8 @@
 #include "cli/progress_bar.h"
 #include "core/agreement.h"
 #include "core/grazing.h"
-#include "core/image_io.h"
-#include "core/load_scene.h"
+#include "io/image_io.h"
+#include "io/load_scene.h"
 #include "engine/engine.h"
 
 namespace exao::cli {

@@ -18,7 +18,7 @@
 #include "cli/lod_options.h"
 #include "cli/progress_bar.h"
 #include "core/atomic_write.h"
-#include "core/image_io.h"
+#include "io/image_io.h"
 #include "core/isa.h"
 #include "core/pixel_receivers.h"
 #include "engine/engine.h"

@@ -10,7 +10,7 @@
 #include "core/coordinate_limit.h"
 #include "core/cutouts.h"
 #include "core/file_kind.h"
-#include "core/load_scene.h"
+#include "io/load_scene.h"
 
 namespace exao::cli {
 

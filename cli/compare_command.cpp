@@ -22,7 +22,7 @@
 #include "cli/common_options.h"
 #include "cli/progress_bar.h"
 #include "core/atomic_write.h"
-#include "core/image_io.h"
+#include "io/image_io.h"
 #include "engine/engine.h"
 #include "ssao/compare.h"
 #include "ssao/contact_sheet.h"

@@ -57,7 +57,7 @@ AoError ao_error(const MaskSet& reference, const MaskSet& masks) {
   AoError e;
   const std::size_t n = reference.size();
   if (n == 0) return e;
-  // The rounding of core/image_io's PNG writer.
+  // The rounding of io/image_io's PNG writer.
   const auto quantise = [](float ao) { return std::lround(std::clamp(ao, 0.0f, 1.0f) * 255.0f); };
   double sum_abs = 0.0, sum = 0.0;
   std::size_t same = 0;

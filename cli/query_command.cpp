@@ -8,7 +8,7 @@
 #include "cli/commands.h"
 #include "cli/common_options.h"
 #include "cli/progress_bar.h"
-#include "core/receiver_io.h"
+#include "io/receiver_io.h"
 #include "engine/engine.h"
 
 namespace exao::cli {

@@ -8,7 +8,7 @@
 #include "cli/common_options.h"
 #include "cli/lod_options.h"
 #include "cli/progress_bar.h"
-#include "core/image_io.h"
+#include "io/image_io.h"
 #include "core/pixel_receivers.h"
 #include "engine/engine.h"
 

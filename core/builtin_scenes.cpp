@@ -5,7 +5,6 @@
 #include <memory>
 
 #include "core/cutouts.h"
-#include "core/load_scene.h"
 
 namespace exao {
 namespace {
@@ -211,13 +210,6 @@ Result<Scene> builtin_scene(const std::string& name) {
   if (name == "corners") return make_corners();
   if (name == "foliage") return make_foliage();
   return fail(name + ": no such built-in scene (room, plane-pair, sphere-on-plane, hidden-box, corners, foliage)");
-}
-
-Result<Scene> open_scene(const std::string& name_or_path) {
-  for (const std::string& name : builtin_scene_names()) {
-    if (name == name_or_path) return builtin_scene(name);
-  }
-  return load_scene(name_or_path);
 }
 
 }  // namespace exao

@@ -4,8 +4,11 @@
 // open space.
 
 #include <cstdint>
+#include <string>
+#include <vector>
 
 #include "core/cutouts.h"
+#include "core/error.h"
 #include "core/scene.h"
 
 namespace exao {
@@ -47,5 +50,13 @@ namespace exao {
 /// code (tests, make_foliage).
 void add_cutout_quad(Scene& scene, Cutouts& cutouts, const glm::vec3& a, const glm::vec3& b, const glm::vec3& d,
                      std::uint32_t material, bool two_sided);
+
+/// Names of the built-in scenes; the first is the default.
+[[nodiscard]] std::vector<std::string> builtin_scene_names();
+
+/// A built-in scene by name ("room", "plane-pair", "sphere-on-plane", "hidden-box", "corners",
+/// "foliage"),
+/// or an error.
+[[nodiscard]] Result<Scene> builtin_scene(const std::string& name);
 
 }  // namespace exao

@@ -28,7 +28,7 @@
 
 #include "cli/common_options.h"
 #include "cli/program.h"
-#include "core/load_scene.h"
+#include "io/load_scene.h"
 #include "core/scene.h"
 #include "engine/engine.h"
 #include "engine/geometry.h"

@@ -19,7 +19,7 @@
 #include "core/builtin_scenes.h"
 #include "core/camera.h"
 #include "core/isa.h"
-#include "core/load_scene.h"
+#include "io/load_scene.h"
 #include "engine/engine.h"
 #include "engine/geometry.h"
 #include "tests/test_support.h"

@@ -24,7 +24,7 @@
 #include "bake/document_impl.h"
 #include "bake/save.h"
 #include "bvh/occlusion.h"
-#include "core/load_scene.h"
+#include "io/load_scene.h"
 #include "core/shadow_rays.h"
 #include "lut/mask_engine.h"
 #include "lut/triangle_set.h"

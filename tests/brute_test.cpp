@@ -15,7 +15,7 @@
 #include "core/camera.h"
 #include "core/embree_reference.h"
 #include "core/grazing.h"
-#include "core/load_scene.h"
+#include "io/polygon_soup_loader.h"
 #include "core/pixel_receivers.h"
 #include "lut/brute.h"
 #include "tests/test_support.h"
@@ -130,7 +130,7 @@ Camera conference_camera() { return look_at({0.0f, 300.0f, 0.0f}, {600.0f, 100.0
 TEST(Brute, MatchesEmbreeOnConference) {
   const auto path = test::real_scene("Conference/conference.obj");
   EXAO_REQUIRE_SCENE(path);
-  auto scene = load_scene(path.string());
+  auto scene = load_polygon_soup(path.string());
   ASSERT_TRUE(scene) << scene.error().message;
   const SceneSetup s = setup(std::move(*scene), conference_camera(), 32, 24);
   check_against_embree(s, "conference");
@@ -163,7 +163,7 @@ TEST(Brute, GridEqualsEveryTriangleOnRoom) {
 TEST(Brute, GridEqualsEveryTriangleOnConference) {
   const auto path = test::real_scene("Conference/conference.obj");
   EXAO_REQUIRE_SCENE(path);
-  auto scene = load_scene(path.string());
+  auto scene = load_polygon_soup(path.string());
   ASSERT_TRUE(scene) << scene.error().message;
   check_grid(setup(std::move(*scene), conference_camera(), 8, 6), 48);
 }

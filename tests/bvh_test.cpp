@@ -8,7 +8,7 @@
 #include "bvh/occlusion.h"
 #include "core/builtin_scenes.h"
 #include "core/embree_reference.h"
-#include "core/load_scene.h"
+#include "io/polygon_soup_loader.h"
 #include "core/pixel_receivers.h"
 #include "core/random.h"
 #include "lut/brute.h"
@@ -101,7 +101,7 @@ TEST(Bvh, EqualsBruteWithEveryBranchingAndLeafSize) {
 TEST(Bvh, EqualsBruteOnConference) {
   const auto path = test::real_scene("Conference/conference.obj");
   EXAO_REQUIRE_SCENE(path);
-  Result<Scene> loaded = load_scene(path.string());
+  Result<Scene> loaded = load_polygon_soup(path.string());
   ASSERT_TRUE(loaded.has_value()) << loaded.error().message;
   const Camera camera = look_at({-900.0f, 350.0f, -950.0f}, {600.0f, 150.0f, 300.0f}, 70.0f);
   Case two_sided{"conference", std::move(*loaded), camera, 24, 18};  // OBJ: two-sided

@@ -24,7 +24,7 @@
 #include "core/builtin_scenes.h"
 #include "core/cutouts.h"
 #include "core/isa.h"
-#include "core/load_scene.h"
+#include "io/load_scene.h"
 #include "engine/engine.h"
 #include "engine/geometry.h"
 #include "tests/test_support.h"

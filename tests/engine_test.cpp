@@ -17,7 +17,7 @@
 
 #include "bake/bake.h"
 #include "bake/document.h"
-#include "core/load_scene.h"
+#include "io/load_scene.h"
 #include "engine/engine.h"
 #include "engine/morton.h"
 #include "tests/test_support.h"

@@ -22,9 +22,9 @@
 #include <unistd.h>
 
 #include "core/atomic_write.h"
-#include "core/gltf_guard.h"
-#include "core/load_scene.h"
-#include "core/receiver_io.h"
+#include "io/gltf_guard.h"
+#include "io/load_scene.h"
+#include "io/receiver_io.h"
 #include "tests/test_support.h"
 
 namespace exao {

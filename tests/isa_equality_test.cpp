@@ -11,7 +11,7 @@
 #include "core/builtin_scenes.h"
 #include "core/embree_reference.h"
 #include "core/isa.h"
-#include "core/load_scene.h"
+#include "io/polygon_soup_loader.h"
 #include "core/pixel_receivers.h"
 #include "lut/brute.h"
 #include "raster/occlusion.h"
@@ -76,7 +76,7 @@ TEST(IsaEquality, RoomOnEveryInstructionSet) {
 TEST(IsaEquality, ConferenceOnEveryInstructionSet) {
   const auto path = test::real_scene("Conference/conference.obj");
   EXAO_REQUIRE_SCENE(path);
-  Result<Scene> scene = open_scene(path.string());
+  Result<Scene> scene = load_polygon_soup(path.string());
   ASSERT_TRUE(scene) << scene.error().message;
   const Camera camera = look_at({-900.0f, 450.0f, -900.0f}, {1000.0f, 150.0f, 400.0f}, 60.0f);
   expect_every_isa_equal(*scene, camera, 64, 48, 128, lut::MaskMode::Exact);

@@ -23,7 +23,7 @@
 #include "core/builtin_scenes.h"
 #include "core/camera.h"
 #include "core/grazing.h"
-#include "core/load_scene.h"
+#include "io/load_scene.h"
 #include "engine/engine.h"
 #include "tests/test_support.h"
 

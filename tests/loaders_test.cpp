@@ -18,7 +18,7 @@
 
 #include <glm/glm.hpp>
 
-#include "core/load_scene.h"
+#include "io/load_scene.h"
 #include "tests/test_support.h"
 
 namespace exao {

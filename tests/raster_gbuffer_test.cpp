@@ -12,7 +12,7 @@
 #include "core/builtin_scenes.h"
 #include "core/camera.h"
 #include "core/embree_reference.h"
-#include "core/load_scene.h"
+#include "io/polygon_soup_loader.h"
 #include "core/pixel_receivers.h"
 #include "raster/gbuffer.h"
 #include "raster/rasterizer.h"
@@ -220,7 +220,7 @@ TEST(RasterGBuffer, MatchesEmbreeNearGeometry) {
 TEST(RasterGBuffer, MatchesEmbreeOnConference) {
   const auto path = test::real_scene("Conference/conference.obj");
   EXAO_REQUIRE_SCENE(path);
-  auto scene = load_scene(path.string());
+  auto scene = load_polygon_soup(path.string());
   ASSERT_TRUE(scene) << scene.error().message;
   const Camera camera = look_at({-900.0f, 350.0f, -950.0f}, {600.0f, 150.0f, 300.0f}, 70.0f);
   compare_with_embree(*scene, camera, 512, 384);

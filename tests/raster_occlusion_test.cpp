@@ -16,7 +16,7 @@
 #include "core/builtin_scenes.h"
 #include "core/camera.h"
 #include "core/embree_reference.h"
-#include "core/load_scene.h"
+#include "io/polygon_soup_loader.h"
 #include "core/sample_pattern.h"
 #include "lut/mask_engine.h"
 #include "raster/occlusion.h"
@@ -219,7 +219,7 @@ TEST(RasterOcclusion, StatsCountStagesWithoutChangingMasks) {
 std::optional<SceneSetup> conference() {
   const auto path = test::real_scene("Conference/conference.obj");
   if (path.empty()) return std::nullopt;
-  auto scene = load_scene(path.string());
+  auto scene = load_polygon_soup(path.string());
   EXPECT_TRUE(scene) << scene.error().message;
   if (!scene) return std::nullopt;
   return std::optional<SceneSetup>(std::in_place, std::move(*scene));
@@ -249,7 +249,7 @@ TEST(RasterOcclusion, EqualsBvhOnConference) {
 TEST(RasterOcclusion, EqualsBvhOnOneSidedConference) {
   const auto path = test::real_scene("Conference/conference.obj");
   EXAO_REQUIRE_SCENE(path);
-  auto scene = load_scene(path.string());
+  auto scene = load_polygon_soup(path.string());
   ASSERT_TRUE(scene) << scene.error().message;
   apply_sidedness(*scene, Sidedness::One);
   const SceneSetup s(std::move(*scene));

@@ -15,7 +15,7 @@
 #include "bvh/bvh.h"
 #include "bvh/occlusion.h"
 #include "core/builtin_scenes.h"
-#include "core/load_scene.h"
+#include "io/load_scene.h"
 #include "core/world_key.h"
 #include "lut/mask_engine.h"
 #include "ssao/abuffer_ao.h"

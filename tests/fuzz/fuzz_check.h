@@ -1,5 +1,5 @@
 #pragma once
-// What every fuzz target asserts beyond "no crash": the loaders' contract (core/load_scene.h).
+// What every fuzz target asserts beyond "no crash": the loaders' contract (io/load_scene.h).
 // A broken contract aborts, so AFL++ records the input as a crash.
 
 #include <cstdio>

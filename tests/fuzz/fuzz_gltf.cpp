@@ -1,9 +1,9 @@
 // AFL++ target: the glTF and GLB readers, core's scene loader and the bake's document (both read
-// through core/gltf_file.h, then walk the model their own way), on the file each argument names;
+// through io/gltf_file.h, then walk the model their own way), on the file each argument names;
 // GLB is told by its magic, so one target covers both. scripts/fuzz.sh runs it; `exao_fuzz_gltf FILE...` replays inputs by hand.
 
 #include "bake/document.h"
-#include "core/load_scene.h"
+#include "io/load_scene.h"
 #include "tests/fuzz/fuzz_check.h"
 
 int main(int argc, char** argv) {

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <cstdlib>
 
-#include "core/receiver_io.h"
+#include "io/receiver_io.h"
 #include "tests/fuzz/fuzz_check.h"
 
 int main(int argc, char** argv) {

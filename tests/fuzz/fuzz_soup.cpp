@@ -2,7 +2,7 @@
 // pre-scans), chosen by the extension of the file each argument names; scripts/fuzz.sh runs one
 // campaign per format (afl-fuzz -e obj, ...). `exao_fuzz_soup FILE...` replays inputs by hand.
 
-#include "core/load_scene.h"
+#include "io/load_scene.h"
 #include "tests/fuzz/fuzz_check.h"
 
 int main(int argc, char** argv) {

@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "core/load_scene.h"
+#include "io/load_scene.h"
 
 namespace {
 

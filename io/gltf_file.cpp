@@ -1,4 +1,4 @@
-#include "core/gltf_file.h"
+#include "io/gltf_file.h"
 
 #include <array>
 #include <cstring>
@@ -6,9 +6,9 @@
 #include <fstream>
 #include <utility>
 
-#include "core/gltf_compression.h"
-#include "core/gltf_guard.h"
-#include "core/gltf_model.h"
+#include "io/gltf_compression.h"
+#include "io/gltf_guard.h"
+#include "io/gltf_model.h"
 
 namespace exao::gltf {
 

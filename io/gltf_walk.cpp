@@ -1,4 +1,4 @@
-#include "core/gltf_walk.h"
+#include "io/gltf_walk.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
-#include "core/gltf_model.h"
+#include "io/gltf_model.h"
 
 namespace exao::gltf {
 namespace {

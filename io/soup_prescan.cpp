@@ -1,4 +1,4 @@
-#include "core/soup_prescan.h"
+#include "io/soup_prescan.h"
 
 #include <cctype>
 #include <cmath>

@@ -1,6 +1,6 @@
 #pragma once
 // exao::gltf::read_file: a .gltf or .glb file into a tinygltf Model, for the scene loader and the
-// bake alike. Internal: it exposes tinygltf (core/gltf_model.h).
+// bake alike. Internal: it exposes tinygltf (io/gltf_model.h).
 
 #include <tiny_gltf.h>
 
@@ -9,12 +9,12 @@
 #include <vector>
 
 #include "core/error.h"
-#include "core/gltf_model.h"
+#include "io/gltf_model.h"
 
 namespace exao::gltf {
 
 /// A glTF file as read: its model with any Draco or meshopt compression already decoded
-/// (core/gltf_compression.h), and what the file was before decoding merged its buffers.
+/// (io/gltf_compression.h), and what the file was before decoding merged its buffers.
 struct File {
   tinygltf::Model model;
   bool binary = false;                    // a GLB container

@@ -3,7 +3,7 @@
 // BLEND for core/cutouts.h's policy) with their base colour textures' alpha decoded, and every
 // scene triangle of theirs with its UVs (texCoord set, KHR_texture_transform) and COLOR_0 alpha;
 // shared by the scene loader and the bake, so both see the same cut-outs. Internal: it exposes
-// tinygltf (core/gltf_model.h).
+// tinygltf (io/gltf_model.h).
 //
 // Bad input never fails the load; each case has a defined fallback and one note:
 //  - an image that is missing, not PNG or JPEG, or does not decode: texture alpha 1 (the
@@ -23,7 +23,7 @@
 #include <vector>
 
 #include "core/cutouts.h"
-#include "core/gltf_walk.h"
+#include "io/gltf_walk.h"
 
 namespace exao::gltf {
 

@@ -1,11 +1,11 @@
-#include "core/gltf_cutouts.h"
+#include "io/gltf_cutouts.h"
 
 #include <algorithm>
 #include <cmath>
 #include <map>
 #include <utility>
 
-#include "core/gltf_model.h"
+#include "io/gltf_model.h"
 
 namespace exao::gltf {
 namespace {

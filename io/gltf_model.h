@@ -1,5 +1,5 @@
 #pragma once
-// exao::gltf: reading a tinygltf Model safely, shared by the scene loader (core/gltf_loader.cpp)
+// exao::gltf: reading a tinygltf Model safely, shared by the scene loader (io/gltf_loader.cpp)
 // and the bake (bake/), so that both see the same nodes, transforms and accessor values.
 // Internal: it exposes tinygltf, which the modules that include it link privately.
 //

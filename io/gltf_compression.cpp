@@ -1,4 +1,4 @@
-#include "core/gltf_compression.h"
+#include "io/gltf_compression.h"
 
 #include <draco/compression/decode.h>
 #include <draco/mesh/mesh.h>

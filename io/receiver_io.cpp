@@ -1,4 +1,4 @@
-#include "core/receiver_io.h"
+#include "io/receiver_io.h"
 
 #include <cctype>
 #include <cmath>
@@ -14,7 +14,7 @@
 #include "core/atomic_write.h"
 #include "core/coordinate_limit.h"
 #include "core/file_kind.h"
-#include "core/soup_prescan.h"
+#include "io/soup_prescan.h"
 
 namespace exao {
 namespace {
@@ -64,7 +64,7 @@ Result<std::vector<Receiver>> load_ply(const std::string& path) {
   CGAL::Point_set_3<Kernel::Point_3, Kernel::Vector_3> points;
   std::ifstream in(path, std::ios::binary);
   if (!in) return fail(path + ": cannot open");
-  // CGAL's PLY reader trusts the counts a file states (core/soup_prescan.h).
+  // CGAL's PLY reader trusts the counts a file states (io/soup_prescan.h).
   if (const std::string problem = ply_problem(path); !problem.empty()) return fail(path + ": " + problem);
   bool ok = false;
   try {

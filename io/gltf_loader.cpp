@@ -1,6 +1,6 @@
 // glTF 2.0 (.gltf/.glb) reader: the file through tinygltf, then the default scene's world-space
 // triangles, one copy per node (and per EXT_mesh_gpu_instancing row) that uses a mesh, by the
-// walk the bake shares (core/gltf_walk.h), which checks every index and accessor before any byte
+// walk the bake shares (io/gltf_walk.h), which checks every index and accessor before any byte
 // is read.
 
 #include <tiny_gltf.h>
@@ -12,19 +12,19 @@
 #include <utility>
 #include <vector>
 
-#include "core/gltf_cutouts.h"
-#include "core/gltf_file.h"
-#include "core/gltf_model.h"
-#include "core/gltf_walk.h"
-#include "core/load_scene.h"
+#include "io/gltf_cutouts.h"
+#include "io/gltf_file.h"
+#include "io/gltf_model.h"
+#include "io/gltf_walk.h"
+#include "io/load_scene.h"
 
 namespace exao {
 namespace {
 
-using namespace gltf;  // the shared reader: core/gltf_file.h, gltf_model.h, gltf_walk.h
+using namespace gltf;  // the shared reader: io/gltf_file.h, gltf_model.h, gltf_walk.h
 
-// The scene is the walk's (core/gltf_walk.h, shared with the bake), with its cut-outs
-// (core/gltf_cutouts.h); the rest of it is dropped.
+// The scene is the walk's (io/gltf_walk.h, shared with the bake), with its cut-outs
+// (io/gltf_cutouts.h); the rest of it is dropped.
 Result<Scene> build_scene(const tinygltf::Model& model, std::span<const std::vector<std::uint8_t>> images) {
   Result<ModelWalk> walk = walk_model(model);
   if (!walk) return std::unexpected(walk.error());

@@ -1,7 +1,6 @@
-// Chooses a loader by file extension. The built-in scenes and open_scene live in
-// builtin_scenes.cpp.
+// Chooses a loader by file extension; open_scene takes a built-in scene's name first.
 
-#include "core/load_scene.h"
+#include "io/load_scene.h"
 
 #include "core/file_kind.h"
 
@@ -22,6 +21,13 @@ Result<Scene> load_scene(const std::string& path) {
   }
   const std::string what = ext.empty() ? "has no extension" : "has unknown extension '" + ext + "'";
   return fail(path + ": " + what + " (supported: .gltf, .glb, .obj, .ply, .off, .stl)");
+}
+
+Result<Scene> open_scene(const std::string& name_or_path) {
+  for (const std::string& name : builtin_scene_names()) {
+    if (name == name_or_path) return builtin_scene(name);
+  }
+  return load_scene(name_or_path);
 }
 
 }  // namespace exao

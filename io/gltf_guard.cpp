@@ -1,4 +1,4 @@
-#include "core/gltf_guard.h"
+#include "io/gltf_guard.h"
 
 #include <array>
 #include <cstdint>

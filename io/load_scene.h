@@ -1,11 +1,12 @@
 #pragma once
-// Reading scenes from files, and the built-in procedural scenes.
+// Reading scenes from files, and the one entry point that takes a built-in scene's name or a path.
 
 #include <string>
-#include <vector>
 
+#include "core/builtin_scenes.h"
 #include "core/error.h"
 #include "core/scene.h"
+#include "io/polygon_soup_loader.h"
 
 namespace exao {
 
@@ -16,15 +17,9 @@ namespace exao {
 /// error naming the file when it is missing, unreadable, malformed, or has no triangle left.
 [[nodiscard]] Result<Scene> load_scene(const std::string& path);
 
-/// Loaders by format, for callers who know it. Same contract as load_scene.
+/// The glTF loader, for callers who know the format. Same contract as load_scene
+/// (io/polygon_soup_loader.h has the other formats' loader).
 [[nodiscard]] Result<Scene> load_gltf(const std::string& path);
-[[nodiscard]] Result<Scene> load_polygon_soup(const std::string& path);
-
-/// Names of the built-in scenes; the first is the default.
-[[nodiscard]] std::vector<std::string> builtin_scene_names();
-
-/// A built-in scene by name ("room", "plane-pair", "sphere-on-plane", "corners"), or an error.
-[[nodiscard]] Result<Scene> builtin_scene(const std::string& name);
 
 /// `name` is a built-in scene's name, or else a path: the one entry point for every command.
 [[nodiscard]] Result<Scene> open_scene(const std::string& name_or_path);

@@ -1,10 +1,10 @@
 #pragma once
 // exao::gltf::walk_model: the default scene of a glTF model, read once for both the scene loader
-// (core/gltf_loader.cpp) and the bake (bake/), so that `exao bake` sees the scene `exao render`
+// (io/gltf_loader.cpp) and the bake (bake/), so that `exao bake` sees the scene `exao render`
 // sees: every mesh primitive decoded once (accessors, strips and fans, sidedness), every place a
 // node draws it (the node tree's transforms and EXT_mesh_gpu_instancing rows, mirroring),
 // cameras, and the world-space triangle soup the backends cast rays against, with the way back
-// from each triangle to its primitive. Internal: it exposes tinygltf (core/gltf_model.h).
+// from each triangle to its primitive. Internal: it exposes tinygltf (io/gltf_model.h).
 
 #include <tiny_gltf.h>
 

@@ -1,4 +1,4 @@
-#include "core/gltf_model.h"
+#include "io/gltf_model.h"
 
 
 #include <algorithm>

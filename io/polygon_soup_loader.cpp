@@ -1,6 +1,8 @@
 // OBJ, PLY, OFF and STL through CGAL's polygon-soup reader. These formats carry no notion of
 // sidedness, so every triangle blocks rays from both sides; polygons are fan-triangulated.
 
+#include "io/polygon_soup_loader.h"
+
 #include <CGAL/IO/polygon_soup_io.h>
 #include <CGAL/Simple_cartesian.h>
 
@@ -19,8 +21,7 @@
 #include <glm/glm.hpp>
 
 #include "core/file_kind.h"
-#include "core/load_scene.h"
-#include "core/soup_prescan.h"
+#include "io/soup_prescan.h"
 
 namespace exao {
 namespace {
@@ -107,7 +108,7 @@ Result<Scene> load(const std::string& path) {
     return fail("not an OBJ, PLY, OFF or STL file");
   }
 
-  // CGAL's OFF and PLY readers trust the counts a file states (core/soup_prescan.h).
+  // CGAL's OFF and PLY readers trust the counts a file states (io/soup_prescan.h).
   const std::string problem = ext == ".off"   ? off_problem(path)
                               : ext == ".ply" ? ply_problem(path)
                                               : std::string();
