@@ -8,10 +8,16 @@
 #include <exception>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <memory>
+#include <utility>
+#include <vector>
 
 #include "bake/document_impl.h"
 #include "bake/gltf_access.h"
 #include "bake/scene_to_gltf.h"
+#include "core/cutouts.h"
+#include "io/gltf_cutouts.h"
 #include "io/gltf_file.h"
 #include "core/ground_plane.h"
 #include "io/load_scene.h"
@@ -25,21 +31,31 @@ std::string lower_extension(const std::string& path) {
   return ext;
 }
 
-// Keeps every image's encoded bytes (AO needs no pixels): save() copies or embeds them as they were.
-bool keep_image_bytes(tinygltf::Image*, const int index, std::string*, std::string*, int, int, const unsigned char* bytes,
-                      int size, void* user) {
-  auto& images = *static_cast<std::vector<std::vector<std::uint8_t>>*>(user);
-  if (index < 0) return true;
-  if (images.size() <= static_cast<std::size_t>(index)) images.resize(static_cast<std::size_t>(index) + 1);
-  if (bytes != nullptr && size > 0) images[static_cast<std::size_t>(index)].assign(bytes, bytes + size);
-  return true;
+// scene_to_gltf writes the triangles grouped by (material, two-sided) in key order and the walk
+// reads them back in that order: the document's triangle k is scene triangle order[k]. The cut-outs
+// follow (their own vertex floats decide, so the round trip through glTF changes no decision).
+std::shared_ptr<const Cutouts> cutouts_in_document_order(const Scene& scene, std::size_t count) {
+  if (!scene.cutouts) return nullptr;
+  std::map<std::pair<std::int32_t, std::uint8_t>, std::vector<std::uint32_t>> groups;
+  for (std::size_t t = 0; t < scene.triangle_count(); ++t) {
+    groups[{scene.material[t], scene.two_sided[t]}].push_back(static_cast<std::uint32_t>(t));
+  }
+  std::vector<std::uint32_t> order;
+  for (const auto& [key, members] : groups) order.insert(order.end(), members.begin(), members.end());
+  if (order.size() != count) return nullptr;
+  auto out = std::make_shared<Cutouts>(*scene.cutouts);
+  out->of_triangle.assign(count, -1);
+  for (std::size_t k = 0; k < count; ++k) {
+    if (order[k] < scene.cutouts->of_triangle.size()) out->of_triangle[k] = scene.cutouts->of_triangle[order[k]];
+  }
+  return out;
 }
 
 bool is_data_uri(const std::string& uri) { return uri.rfind("data:", 0) == 0; }
 
 Result<std::unique_ptr<Document::Impl>> read_gltf(const std::string& path) {
   auto impl = std::make_unique<Document::Impl>();
-  Result<gltf::File> file = gltf::read_file(path, &keep_image_bytes, &impl->image_bytes);
+  Result<gltf::File> file = gltf::read_file(path, &gltf::keep_image_bytes, &impl->image_bytes);  // kept encoded: save() copies them
   if (!file) return std::unexpected(file.error());
   impl->model = std::move(file->model);
   impl->image_bytes.resize(impl->model.images.size());
@@ -62,6 +78,7 @@ Result<std::unique_ptr<Document::Impl>> read_gltf(const std::string& path) {
   auto walk = walk_model(impl->model);
   if (!walk) return std::unexpected(walk.error());
   impl->walk = std::move(*walk);
+  impl->walk.scene.cutouts = gltf::read_cutouts(impl->model, impl->walk, impl->image_bytes, impl->notes);
   for (std::size_t i = 0; i < impl->model.images.size(); ++i) {
     const tinygltf::Image& image = impl->model.images[i];
     if (image.uri.empty() || is_data_uri(image.uri)) continue;
@@ -98,6 +115,7 @@ Result<Document> Document::from_scene(const Scene& scene, const ConvertOptions& 
   impl->name = scene.name;
   impl->walk.scene.name = scene.name;
   impl->walk.scene.report = scene.report;  // what the original loader skipped
+  impl->walk.scene.cutouts = cutouts_in_document_order(scene, impl->walk.scene.triangle_count());
   return Document(std::move(impl));
 }
 

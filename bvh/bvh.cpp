@@ -24,6 +24,7 @@ struct SetSource {
   [[nodiscard]] std::size_t size() const { return set.size(); }
   [[nodiscard]] glm::vec3 vertex(std::size_t t, int k) const { return k == 0 ? set.v0[t] : k == 1 ? set.v1[t] : set.v2[t]; }
   [[nodiscard]] lut::PackedTriangle packed(std::size_t t) const { return set.packed(t); }
+  [[nodiscard]] std::shared_ptr<const Cutouts> cutouts() const { return set.cutouts; }
 };
 
 struct SceneSource {
@@ -37,7 +38,11 @@ struct SceneSource {
     p.v2 = scene.vertices[3 * t + 2];
     lut::bounding_sphere(p.v0, p.v1, p.v2, p.centre, p.radius);
     p.two_sided = scene.two_sided[t];
+    p.cutout = scene.cutouts && scene.cutouts->any() && scene.cutouts->tests(t) ? 1u : 0u;
     return p;
+  }
+  [[nodiscard]] std::shared_ptr<const Cutouts> cutouts() const {
+    return scene.cutouts && scene.cutouts->any() ? scene.cutouts : nullptr;
   }
 };
 
@@ -72,6 +77,7 @@ LeafBlock make_block(const Bvh& bvh, std::uint32_t first, int size) {
     put(block.cx, t.centre.x), put(block.cy, t.centre.y), put(block.cz, t.centre.z);
     put(block.radius, t.radius);
     if (used && t.two_sided) block.two_sided |= 1u << l;
+    if (used && t.cutout) block.cutout |= 1u << l;
   }
   return block;
 }
@@ -100,6 +106,7 @@ Result<Bvh> build_from(const Source& source, const BvhOptions& options, const Pr
   if (!topology) return std::unexpected(topology.error());
 
   Bvh bvh;
+  bvh.cutouts = source.cutouts();
   bvh.nodes = std::move(topology->nodes);
   bvh.scene_triangle = std::move(topology->order);
   bvh.packed.resize(n);

@@ -5,10 +5,12 @@
 // children of a node in one pass (paper Sec. 5).
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include <glm/glm.hpp>
 
+#include "core/cutouts.h"
 #include "core/error.h"
 #include "core/progress.h"
 #include "core/scene.h"
@@ -41,6 +43,7 @@ struct alignas(32) LeafBlock {
   float cx[kLanes], cy[kLanes], cz[kLanes];  // bounding spheres
   float radius[kLanes];
   std::uint32_t two_sided = 0;  // bit k: lane k is two-sided
+  std::uint32_t cutout = 0;     // bit k: lane k is alpha-tested (0 in an opaque scene: today's path)
 };
 
 struct BvhOptions {
@@ -57,6 +60,8 @@ struct Bvh {
   // lut::TriangleSet's, so every mask equals brute's.
   std::vector<lut::PackedTriangle, lut::CacheLineAllocator<lut::PackedTriangle>> packed;
   std::vector<std::uint32_t> scene_triangle;  // index in the scene of packed[i]
+  /// The scene's cut-outs when any triangle is alpha-tested (PackedTriangle::cutout), else null.
+  std::shared_ptr<const Cutouts> cutouts;
   float largest_coordinate = 0.0f;             // max |coordinate| of every vertex (the grazing margin's scale)
   std::vector<LeafBlock, lut::CacheLineAllocator<LeafBlock>> blocks;  // one per leaf
   std::vector<std::uint32_t> leaf_block;       // per triangle that starts a leaf: its block

@@ -122,11 +122,16 @@ template <int Bits, bool Stats, bool Certain>
         const PackedTriangle& tri = bvh.packed[entry.child + l];
         Mask<Bits> sure;
         if constexpr (Certain) {
-          const CertainMasks<Bits> both = certain_finish<Bits>(ctx, tri, setup.certain(l), frame, g, allowed, counters);
+          CertainMasks<Bits> both = certain_finish<Bits>(ctx, tri, setup.certain(l), frame, g, allowed, counters);
+          if (tri.cutout) {
+            lut::keep_cutout_sure(*bvh.cutouts, bvh.scene_triangle[entry.child + l], engine.rays(), frame, both.sure.words,
+                                  both.maybe.words);
+          }
           maybe |= both.maybe;
           sure = both.sure;
         } else {
           sure = triangle_finish<Bits>(ctx, tri, setup.pure(l), frame, allowed, counters);
+          if (tri.cutout) lut::keep_cutout_hits(*bvh.cutouts, bvh.scene_triangle[entry.child + l], engine.rays(), frame, sure.words);
         }
         if constexpr (Stats) {
           if (popcount_and_not(sure, blocked) > 0) ++stats->triangles_blocking;

@@ -11,6 +11,7 @@
 #include "bvh/traverse.h"
 #include "core/grazing.h"
 #include "core/surface_rule.h"
+#include "lut/cutout_filter.h"
 #include "lut/mask_kernels.h"
 #include "lut/sphere_test.h"
 

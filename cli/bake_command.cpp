@@ -311,6 +311,7 @@ int run_bake(const BakeCommandOptions& given, const Invocation& invocation) {
   if (plan->compare) methods.push_back(plan->compare->method);
   engine::GeometryOptions geometry_options;
   geometry_options.sidedness = plan->engine.sidedness;
+  geometry_options.cutouts = plan->engine.cutouts;
   geometry_options.bvh = plan->engine.bvh;
   geometry_options.embree = !outputs->preview.empty();
   geometry_options.threads = plan->engine.threads;

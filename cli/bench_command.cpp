@@ -215,6 +215,7 @@ int run_bench(const BenchOptions& options, const Invocation&) {
   // One geometry (Embree scene, triangles, BVH) for every engine of the run.
   engine::GeometryOptions geometry_options;
   geometry_options.sidedness = base->sidedness;
+  geometry_options.cutouts = base->cutouts;
   geometry_options.bvh = base->bvh;
   geometry_options.embree = true;
   geometry_options.threads = base->threads;

@@ -3,20 +3,30 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <filesystem>
 #include <thread>
 
 #include "core/coordinate_limit.h"
+#include "core/cutouts.h"
 #include "core/file_kind.h"
 #include "io/load_scene.h"
 
 namespace exao::cli {
 
 void add_scene_options(CLI::App& app, SceneOptions& options) {
-  app.add_option("scene", options.scene, "A built-in scene (room, plane-pair, sphere-on-plane, hidden-box, corners) or a .gltf/.glb/.obj/.ply/.off/.stl file")
+  app.add_option("scene", options.scene, "A built-in scene (room, plane-pair, sphere-on-plane, hidden-box, corners, foliage) or a .gltf/.glb/.obj/.ply/.off/.stl file")
       ->capture_default_str();
   app.add_option("--sided", options.sided, "Triangle sidedness: auto (glTF doubleSided; other formats two-sided), one, two")
       ->check(CLI::IsMember({"auto", "one", "two"}))
+      ->capture_default_str();
+  app.add_option("--cutouts", options.cutouts,
+                 "glTF alphaMode MASK cut-outs: on (rays pass where the base colour alpha is below alphaCutoff) or off (every triangle opaque)")
+      ->check(CLI::IsMember({"on", "off"}))
+      ->capture_default_str();
+  app.add_option("--blend", options.blend,
+                 "glTF alphaMode BLEND materials: opaque, cutoff T (a cut-out at alpha T) or stochastic (blocks with probability alpha)")
+      ->expected(1, 2)
       ->capture_default_str();
 }
 
@@ -89,6 +99,31 @@ Result<Sidedness> parse_sidedness(const std::string& text) {
   return fail("sidedness: must be auto, one or two, got '" + text + "'");
 }
 
+Result<CutoutPolicy> parse_cutout_policy(const SceneOptions& scene) {
+  CutoutPolicy policy;
+  policy.enabled = scene.cutouts != "off";
+  if (scene.blend.empty()) return policy;
+  Result<BlendRule> rule = parse_blend_rule(scene.blend[0]);
+  if (!rule) return std::unexpected(rule.error());
+  policy.blend = *rule;
+  if ((policy.blend == BlendRule::Cutoff) != (scene.blend.size() == 2)) {
+    return fail("blend: 'cutoff' takes a threshold (cutoff T, T in [0, 1]); opaque and stochastic take none");
+  }
+  if (scene.blend.size() == 2) {
+    float value = 0.0f;
+    std::size_t used = 0;
+    try {
+      value = std::stof(scene.blend[1], &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != scene.blend[1].size()) return fail("blend_cutoff: '" + scene.blend[1] + "' is not a number");
+    policy.blend_cutoff = value;
+  }
+  if (auto ok = check_policy(policy); !ok) return std::unexpected(ok.error());
+  return policy;
+}
+
 Result<engine::Length> parse_radius(const std::string& text) {
   if (text.empty()) return engine::kDefaultRadius;
   const bool percent = text.back() == '%';
@@ -117,6 +152,9 @@ Result<engine::Options> make_options(const SceneOptions& scene, const RayOptions
   Result<Sidedness> sided = parse_sidedness(scene.sided);
   if (!sided) return std::unexpected(sided.error());
   out.sidedness = *sided;
+  Result<CutoutPolicy> cutouts = parse_cutout_policy(scene);
+  if (!cutouts) return std::unexpected(cutouts.error());
+  out.cutouts = *cutouts;
   out.threads = rays.threads;
   Result<engine::Method> m = engine::parse_method(method.method);
   if (!m) return std::unexpected(m.error());

@@ -19,6 +19,8 @@ namespace exao::cli {
 struct SceneOptions {
   std::string scene = "room";  // a built-in scene's name or a file
   std::string sided = "auto";  // auto | one | two
+  std::string cutouts = "on";  // on | off: glTF MASK materials cut out (core/cutouts.h)
+  std::vector<std::string> blend{"opaque"};  // opaque | cutoff T | stochastic: BLEND materials
 };
 
 struct RayOptions {
@@ -66,6 +68,8 @@ void print_load_report(const std::string& name, const LoadReport& report);
 /// the engine checks the value.
 [[nodiscard]] Result<engine::Length> parse_radius(const std::string& text);
 [[nodiscard]] Result<Sidedness> parse_sidedness(const std::string& text);
+/// --cutouts and --blend ("opaque", "cutoff T" or "stochastic") as the engine's policy, checked.
+[[nodiscard]] Result<CutoutPolicy> parse_cutout_policy(const SceneOptions& scene);
 
 /// The engine's options from the parsed flags, checked (engine::check_options): errors name
 /// the option (report() prints its flag).

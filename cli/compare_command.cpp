@@ -17,6 +17,7 @@
 #include <tbb/global_control.h>
 
 #include "cli/commands.h"
+#include "core/cutouts.h"
 #include "cli/option_flags.h"
 #include "cli/common_options.h"
 #include "cli/progress_bar.h"
@@ -137,6 +138,7 @@ int run_compare(const CompareCommandOptions& o) {
   if (!scene) return report(scene.error());
   // The G-buffer sees the sidedness the exact AO uses.
   apply_sidedness(*scene, engine_options->sidedness);
+  scene->cutouts = apply_cutout_policy(scene->cutouts, engine_options->cutouts);  // the A-buffer reads them too
   Result<engine::Engine> engine = engine::Engine::build(*scene, *engine_options, engine::Receivers::Points);
   if (!engine) return report(engine.error());
   print_option_notes(*engine);

@@ -8,13 +8,16 @@
 namespace exao::cli {
 namespace {
 
-constexpr std::array<std::pair<std::string_view, std::string_view>, 28> kFlags{{
+constexpr std::array<std::pair<std::string_view, std::string_view>, 31> kFlags{{
     // engine::Options
     {"radius", "--radius"},
     {"samples", "--samples"},
     {"falloff", "--falloff"},
     {"origin_offset", "--offset"},
     {"sidedness", "--sided"},
+    {"cutouts", "--cutouts"},
+    {"blend", "--blend"},
+    {"blend_cutoff", "--blend"},
     {"method", "--method"},
     {"masks", "--masks"},
     {"hybrid", "--hybrid"},

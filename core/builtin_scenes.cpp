@@ -1,6 +1,10 @@
 #include "core/builtin_scenes.h"
 
+#include <algorithm>
 #include <cmath>
+#include <memory>
+
+#include "core/cutouts.h"
 
 namespace exao {
 namespace {
@@ -61,7 +65,74 @@ void add_sphere(Scene& scene, glm::vec3 centre, float radius, int slices, int st
   }
 }
 
+// A checker of `cells` x `cells` squares, alternately opaque (alpha 1) and open (alpha 0), of
+// `texels` x `texels` texels: the foliage scene's cards.
+std::shared_ptr<const AlphaTexture> checker_texture(int texels, int cells, TextureFilter filter) {
+  auto texture = std::make_shared<AlphaTexture>();
+  texture->width = texture->height = texels;
+  texture->filter = filter;
+  texture->alpha.resize(static_cast<std::size_t>(texels) * static_cast<std::size_t>(texels));
+  const int cell = std::max(1, texels / cells);
+  for (int y = 0; y < texels; ++y) {
+    for (int x = 0; x < texels; ++x) {
+      texture->alpha[static_cast<std::size_t>(y * texels + x)] = ((x / cell + y / cell) % 2 == 0) ? 65535 : 0;
+    }
+  }
+  return texture;
+}
+
 }  // namespace
+
+void add_cutout_quad(Scene& scene, Cutouts& cutouts, const glm::vec3& a, const glm::vec3& b, const glm::vec3& d,
+                     std::uint32_t material, bool two_sided) {
+  const glm::vec3 c = b + d - a;
+  const glm::vec2 ua(0.0f, 1.0f), ub(1.0f, 1.0f), uc(1.0f, 0.0f), ud(0.0f, 0.0f);
+  const auto add = [&](const glm::vec3& p, const glm::vec3& q, const glm::vec3& r, glm::vec2 up, glm::vec2 uq,
+                       glm::vec2 ur) {
+    if (!scene.add_triangle(p, q, r, two_sided, static_cast<std::int32_t>(material))) return;
+    cutouts.of_triangle.resize(scene.triangle_count(), -1);
+    cutouts.of_triangle.back() = static_cast<std::int32_t>(cutouts.triangles.size());
+    CutoutTriangle tri;
+    tri.v0 = p, tri.v1 = q, tri.v2 = r;
+    tri.uv[0] = up, tri.uv[1] = uq, tri.uv[2] = ur;
+    tri.material = material;
+    cutouts.triangles.push_back(tri);
+  };
+  add(a, b, c, ua, ub, uc);
+  add(a, c, d, ua, uc, ud);
+}
+
+Scene make_foliage(bool cut_out) {
+  Scene scene;
+  scene.name = "foliage";
+  // A 12 x 12 ground (one-sided, facing up), then 7 x 7 cards standing on it.
+  add_grid(scene, {-6.0f, 0.0f, 6.0f}, {6.0f, 0.0f, 6.0f}, {-6.0f, 0.0f, -6.0f}, 24, 24);
+  auto cutouts = std::make_shared<Cutouts>();
+  cutouts->textures.push_back(checker_texture(32, 8, TextureFilter::Linear));
+  CutoutMaterial leaves;
+  leaves.name = "checker-cards";
+  leaves.texture = 0;
+  leaves.cutoff = 0.5f;
+  cutouts->materials.push_back(leaves);
+  cutouts->of_triangle.assign(scene.triangle_count(), -1);
+  for (int j = 0; j < 7; ++j) {
+    for (int i = 0; i < 7; ++i) {
+      // A fixed pseudo-random yaw and lean per card (a golden-ratio sequence: no two alike).
+      const float k = static_cast<float>(7 * j + i);
+      const float yaw = 6.2831853f * std::fmod(0.618034f * k, 1.0f);
+      const float lean = 0.35f * (std::fmod(0.414214f * k, 1.0f) - 0.5f);
+      const glm::vec3 base(-4.5f + 1.5f * static_cast<float>(i), 0.05f, -4.5f + 1.5f * static_cast<float>(j));
+      const glm::vec3 across = 0.6f * glm::vec3(std::cos(yaw), 0.0f, std::sin(yaw));
+      const glm::vec3 facing(-std::sin(yaw), 0.0f, std::cos(yaw));
+      const glm::vec3 up = 1.6f * glm::normalize(glm::vec3(0.0f, 1.0f, 0.0f) + lean * facing);
+      add_cutout_quad(scene, *cutouts, base - across, base + across, base - across + up, 0, true);
+    }
+  }
+  if (cut_out) scene.cutouts = std::move(cutouts);
+  scene.cameras.push_back(look_at({-5.5f, 3.4f, 6.5f}, {0.3f, 0.4f, -0.6f}, 55.0f));
+  scene.cameras.back().name = "field";
+  return scene;
+}
 
 Scene make_room() {
   Scene scene;
@@ -129,7 +200,7 @@ Scene make_corners() {
   return scene;
 }
 
-std::vector<std::string> builtin_scene_names() { return {"room", "plane-pair", "sphere-on-plane", "hidden-box", "corners"}; }
+std::vector<std::string> builtin_scene_names() { return {"room", "plane-pair", "sphere-on-plane", "hidden-box", "corners", "foliage"}; }
 
 Result<Scene> builtin_scene(const std::string& name) {
   if (name == "room") return make_room();
@@ -137,7 +208,8 @@ Result<Scene> builtin_scene(const std::string& name) {
   if (name == "sphere-on-plane") return make_sphere_on_plane();
   if (name == "hidden-box") return make_hidden_box();
   if (name == "corners") return make_corners();
-  return fail(name + ": no such built-in scene (room, plane-pair, sphere-on-plane, hidden-box, corners)");
+  if (name == "foliage") return make_foliage();
+  return fail(name + ": no such built-in scene (room, plane-pair, sphere-on-plane, hidden-box, corners, foliage)");
 }
 
 }  // namespace exao

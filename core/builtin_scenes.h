@@ -3,9 +3,11 @@
 // have analytic answers. All are in metres-like units, +Y up, one-sided with fronts facing the
 // open space.
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
+#include "core/cutouts.h"
 #include "core/error.h"
 #include "core/scene.h"
 
@@ -36,10 +38,24 @@ namespace exao {
 /// receivers (and offset 0) start exactly in the planes of their neighbours. Has a camera.
 [[nodiscard]] Scene make_corners();
 
+/// Cut-outs (core/cutouts.h): a 12 x 12 ground facing up and 7 x 7 two-sided cards, 1.2 wide and
+/// 1.6 tall, standing 0.05 above it at fixed pseudo-random yaws and leans, their alpha an 8 x 8
+/// checker (32 x 32 texels, linear filtering, alphaMode MASK at 0.5): half of every card is open.
+/// cut_out = false: the same triangles, every one opaque. Has a camera ("field").
+[[nodiscard]] Scene make_foliage(bool cut_out = true);
+
+/// Appends the quad a, b, b + d - a, d (counter-clockwise seen from its front) as two triangles
+/// of `material` (an index in cutouts.materials), UV (0, 1), (1, 1), (1, 0), (0, 0) at its
+/// corners, recorded in `cutouts` (whose of_triangle grows with the scene). For scenes made in
+/// code (tests, make_foliage).
+void add_cutout_quad(Scene& scene, Cutouts& cutouts, const glm::vec3& a, const glm::vec3& b, const glm::vec3& d,
+                     std::uint32_t material, bool two_sided);
+
 /// Names of the built-in scenes; the first is the default.
 [[nodiscard]] std::vector<std::string> builtin_scene_names();
 
-/// A built-in scene by name ("room", "plane-pair", "sphere-on-plane", "hidden-box", "corners"),
+/// A built-in scene by name ("room", "plane-pair", "sphere-on-plane", "hidden-box", "corners",
+/// "foliage"),
 /// or an error.
 [[nodiscard]] Result<Scene> builtin_scene(const std::string& name);
 

@@ -14,6 +14,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "core/cutouts.h"
 #include "core/surface_rule.h"
 
 namespace exao {
@@ -29,7 +30,10 @@ struct EmbreeScene::Impl {
   struct FilterData {
     const float* vertices = nullptr;          // the geometry's vertex buffer: 9 floats per primitive
     const glm::vec3* front_normals = nullptr;  // one-sided geometry only
+    const std::uint32_t* scene_triangle = nullptr;  // triangle_of[geometry]
+    const Cutouts* cutouts = nullptr;          // null: every triangle opaque
   };
+  std::shared_ptr<const Cutouts> cutouts;
   FilterData filter_data[2];
   std::mutex error_mutex;
   std::string first_error;
@@ -77,7 +81,30 @@ void occlusion_filter(const RTCFilterFunctionNArguments* args) {
     const float* v = data->vertices + 9 * static_cast<std::size_t>(prim);
     const glm::vec3 origin{RTCRayN_org_x(args->ray, args->N, i), RTCRayN_org_y(args->ray, args->N, i),
                            RTCRayN_org_z(args->ray, args->N, i)};
-    if (origin_on_plane({v[0], v[1], v[2]}, {v[3], v[4], v[5]}, {v[6], v[7], v[8]}, origin)) args->valid[i] = 0;
+    if (origin_on_plane({v[0], v[1], v[2]}, {v[3], v[4], v[5]}, {v[6], v[7], v[8]}, origin)) {
+      args->valid[i] = 0;
+      continue;
+    }
+    // A cut-out decides by its alpha at the hit, from the ray's floats (core/cutouts.h), as the masks do.
+    if (data->cutouts) {
+      const glm::vec3 direction{RTCRayN_dir_x(args->ray, args->N, i), RTCRayN_dir_y(args->ray, args->N, i),
+                                RTCRayN_dir_z(args->ray, args->N, i)};
+      if (!data->cutouts->blocks(data->scene_triangle[prim], origin, direction)) args->valid[i] = 0;
+    }
+  }
+}
+
+// The closest-hit filter of a scene with cut-outs: a camera ray passes through a cut-out hole.
+void cutout_intersect_filter(const RTCFilterFunctionNArguments* args) {
+  const auto* data = static_cast<const EmbreeScene::Impl::FilterData*>(args->geometryUserPtr);
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] != -1) continue;
+    const unsigned prim = RTCHitN_primID(args->hit, args->N, i);
+    const glm::vec3 origin{RTCRayN_org_x(args->ray, args->N, i), RTCRayN_org_y(args->ray, args->N, i),
+                           RTCRayN_org_z(args->ray, args->N, i)};
+    const glm::vec3 direction{RTCRayN_dir_x(args->ray, args->N, i), RTCRayN_dir_y(args->ray, args->N, i),
+                              RTCRayN_dir_z(args->ray, args->N, i)};
+    if (!data->cutouts->blocks(data->scene_triangle[prim], origin, direction)) args->valid[i] = 0;
   }
 }
 
@@ -101,8 +128,11 @@ void attach_triangles(EmbreeScene::Impl& impl, const Scene& scene, unsigned id) 
   }
   impl.filter_data[id].vertices = vertices;
   if (id == kOneSided) impl.filter_data[id].front_normals = impl.front_normals.data();
+  impl.filter_data[id].scene_triangle = triangles.data();
+  impl.filter_data[id].cutouts = impl.cutouts.get();
   rtcSetGeometryUserData(geometry, &impl.filter_data[id]);
   rtcSetGeometryOccludedFilterFunction(geometry, occlusion_filter);
+  if (impl.cutouts) rtcSetGeometryIntersectFilterFunction(geometry, cutout_intersect_filter);
   rtcSetGeometryBuildQuality(geometry, RTC_BUILD_QUALITY_HIGH);
   rtcCommitGeometry(geometry);
   rtcAttachGeometryByID(impl.scene, geometry, id);
@@ -135,7 +165,7 @@ struct Packet<16> {
 
 template <class Ray>
 void set_lane(Ray& ray, int lane, const Frame& frame, const ShadowRays& rays, int sample) {
-  const glm::vec3 d = frame.to_world_direction(rays.pattern.directions[sample]);
+  const glm::vec3 d = rays.world_direction(frame, sample);
   ray.org_x[lane] = frame.origin.x;
   ray.org_y[lane] = frame.origin.y;
   ray.org_z[lane] = frame.origin.z;
@@ -209,7 +239,7 @@ void cast_single(RTCScene scene, const ShadowRays& rays, std::span<const Receive
     const Frame frame = rays.frame(receivers[r]);
     std::span<std::uint64_t> row = masks.row(r);
     for (int sample = 0; sample < n; ++sample) {
-      const glm::vec3 d = frame.to_world_direction(rays.pattern.directions[sample]);
+      const glm::vec3 d = rays.world_direction(frame, sample);
       RTCRay ray{frame.origin.x, frame.origin.y, frame.origin.z, 0.0f, d.x, d.y, d.z, 0.0f,
                  rays.pattern.lengths[sample] * rays.radius, 0xFFFFFFFFu, 0, 0};
       rtcOccluded1(scene, &context, &ray);
@@ -294,6 +324,7 @@ Result<EmbreeScene> EmbreeScene::build(const Scene& scene) {
   rtcSetDeviceErrorFunction(impl->device, on_embree_error, impl.get());
   impl->scene = rtcNewScene(impl->device);
   rtcSetSceneBuildQuality(impl->scene, RTC_BUILD_QUALITY_HIGH);
+  if (scene.cutouts && scene.cutouts->any()) impl->cutouts = scene.cutouts;
 
   for (std::uint32_t t = 0; t < scene.triangle_count(); ++t) {
     const unsigned id = scene.two_sided[t] ? kTwoSided : kOneSided;

@@ -4,6 +4,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -13,6 +14,8 @@
 #include "core/camera.h"
 
 namespace exao {
+
+struct Cutouts;  // core/cutouts.h
 
 /// What a loader read and what it left out, so the caller can say so.
 struct LoadReport {
@@ -36,6 +39,10 @@ struct Scene {
   /// alphaCutoff and 0 otherwise, OPAQUE is 1 (textures are not read). Empty, or an index
   /// beyond it, means opaque. Exact AO ignores it: every triangle blocks.
   std::vector<float> material_opacity;
+  /// Alpha-tested triangles (glTF alphaMode MASK, and BLEND per core/cutouts.h's policy) and
+  /// what decides them; nullptr: every triangle opaque. Shared: copies of a scene share the
+  /// textures. Indexed by triangle, so whoever reorders or drops triangles must drop it.
+  std::shared_ptr<const Cutouts> cutouts;
   LoadReport report;
   /// The last `ground_triangles` triangles are an added ground plane (core/ground_plane.h):
   /// occluders like any other, left out of bounds() so that "5% of the diagonal" and camera

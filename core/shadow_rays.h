@@ -24,6 +24,11 @@ struct ShadowRays {
     return make_frame(receiver, origin_offset, max_tilt());
   }
   [[nodiscard]] int count() const { return pattern.count; }
+  /// Ray i's world direction at `frame`: the floats every ray caster casts and every cut-out
+  /// decision (core/cutouts.h) rebuilds, so this is the one place they are computed.
+  [[nodiscard]] glm::vec3 world_direction(const Frame& frame, int i) const {
+    return frame.to_world_direction(pattern.directions[static_cast<std::size_t>(i)]);
+  }
 };
 
 namespace detail {

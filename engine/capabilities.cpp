@@ -15,12 +15,13 @@ constexpr std::array kEveryFalloff{Falloff::Constant, Falloff::Linear, Falloff::
 // Every backend casts the same rays (lengths carry the falloff) and calls the one triangle mask
 // (which holds the sidedness rule), so only the receivers differ: raster draws a camera's
 // G-buffer and has no receiver anywhere else.
-const Capabilities kEmbree{true, true, {}, kEverySidedness, kEveryFalloff};
-const Capabilities kBrute{true, true, kBothModes, kEverySidedness, kEveryFalloff};
-const Capabilities kBvh{true, true, kBothModes, kEverySidedness, kEveryFalloff};
+const Capabilities kEmbree{true, true, {}, kEverySidedness, kEveryFalloff, true};
+const Capabilities kBrute{true, true, kBothModes, kEverySidedness, kEveryFalloff, true};
+const Capabilities kBvh{true, true, kBothModes, kEverySidedness, kEveryFalloff, true};
 // Auto's certainty margins are those of the exact test; a table's cells carry larger errors.
-const Capabilities kAuto{true, true, kExactOnly, kEverySidedness, kEveryFalloff};
-const Capabilities kRaster{false, true, kBothModes, kEverySidedness, kEveryFalloff};
+const Capabilities kAuto{true, true, kExactOnly, kEverySidedness, kEveryFalloff, true};
+// Raster's influence volumes, LOD levels and fragment tests know nothing of alpha: refused.
+const Capabilities kRaster{false, true, kBothModes, kEverySidedness, kEveryFalloff, false};
 
 template <class T>
 bool holds(std::span<const T> values, T value) {
@@ -67,6 +68,13 @@ Result<void> check_serves(const Options& options, Receivers receivers) {
                 falloff_name(options.falloff));
   }
   return {};
+}
+
+Result<void> check_serves_cutouts(const Options& options, bool has_cutouts) {
+  if (!has_cutouts || capabilities(options.method).cutouts) return {};
+  return fail(std::string("method: ") + method_name(options.method) +
+              " does not handle cut-outs (alphaMode MASK); use auto, bvh, brute or embree, or cutouts off, got " +
+              method_name(options.method));
 }
 
 }  // namespace exao::engine

@@ -28,6 +28,8 @@ struct Capabilities {
   std::span<const lut::MaskMode> mask_modes;
   std::span<const Sidedness> sidedness;
   std::span<const Falloff> falloffs;
+  /// Alpha-tested triangles (core/cutouts.h), exactly as Embree's filter decides them.
+  bool cutouts = false;
 };
 
 [[nodiscard]] const Capabilities& capabilities(Method method);
@@ -35,5 +37,9 @@ struct Capabilities {
 /// Whether `options.method` can serve `receivers` with these options; the error names the
 /// option ("method", "masks", ...) and what the backend serves instead.
 [[nodiscard]] Result<void> check_serves(const Options& options, Receivers receivers);
+
+/// Whether `options.method` can serve a scene that has cut-outs under options.cutouts
+/// (`has_cutouts`), before any work on it; the error names "method" and the ways out.
+[[nodiscard]] Result<void> check_serves_cutouts(const Options& options, bool has_cutouts);
 
 }  // namespace exao::engine

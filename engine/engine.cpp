@@ -175,6 +175,10 @@ Result<Engine> Engine::build(const Scene& scene, const Options& options, Receive
   if (auto ok = check_serves(options, receivers); !ok) return std::unexpected(ok.error());
   GeometryOptions geometry_options;
   geometry_options.sidedness = options.sidedness;
+  geometry_options.cutouts = options.cutouts;
+  if (auto ok = check_serves_cutouts(options, cuts_out(scene.cutouts.get(), options.cutouts)); !ok) {
+    return std::unexpected(ok.error());
+  }
   geometry_options.bvh = options.bvh;
   geometry_options.embree = receivers == Receivers::Pixels && options.method != Method::Raster;
   geometry_options.threads = options.threads;
@@ -192,6 +196,7 @@ Result<Engine> Engine::build(std::shared_ptr<const Geometry> geometry, const Opt
   if (!geometry->serves(options.method)) {
     return fail(std::string("method: the geometry was not prepared for ") + method_name(options.method));
   }
+  if (auto ok = check_serves_cutouts(options, geometry->has_cutouts()); !ok) return std::unexpected(ok.error());
   auto impl = std::make_unique<Impl>();
   impl->options = options;
   impl->options.sidedness = geometry->sidedness();

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "core/cutouts.h"
+
 #include <tbb/task_arena.h>
 
 namespace exao::engine {
@@ -34,11 +36,13 @@ Result<std::shared_ptr<const Geometry>> Geometry::build(const Scene& scene, std:
   // The backends see the scene with the sidedness applied; a copy only when it changes or must
   // be kept (raster draws it, pixel receivers read its triangles' normals).
   const Scene* source = &scene;
-  if (options.sidedness != Sidedness::Auto || keep_scene) {
+  if (options.sidedness != Sidedness::Auto || keep_scene || scene.cutouts) {
     geometry->scene_ = scene;
     apply_sidedness(*geometry->scene_, options.sidedness);
+    geometry->scene_->cutouts = apply_cutout_policy(scene.cutouts, options.cutouts);
     source = &*geometry->scene_;
   }
+  geometry->has_cutouts_ = source->cutouts != nullptr;
   geometry->bounds_ = source->bounds();
   for (const glm::vec3& v : source->vertices) geometry->occluder_bounds_.extend(v);
   geometry->triangle_count_ = source->triangle_count();

@@ -21,6 +21,7 @@ namespace exao::engine {
 
 struct GeometryOptions {
   Sidedness sidedness = Sidedness::Auto;  // applied to the copy the backends see
+  CutoutPolicy cutouts;                   // likewise (core/cutouts.h): the scene's cut-outs under it
   bvh::BvhOptions bvh;
   /// Build the Embree scene even when no method casts rays, for pixel receivers and previews.
   bool embree = false;
@@ -48,6 +49,8 @@ class Geometry {
   [[nodiscard]] std::size_t triangle_count() const { return triangle_count_; }
   [[nodiscard]] std::size_t two_sided_count() const { return two_sided_count_; }
   [[nodiscard]] Sidedness sidedness() const { return sidedness_; }
+  /// Whether any triangle is alpha-tested (a cut-out) under GeometryOptions::cutouts.
+  [[nodiscard]] bool has_cutouts() const { return has_cutouts_; }
   [[nodiscard]] const bvh::BvhOptions& bvh_options() const { return bvh_options_; }
   /// The raster method's levels of detail of scene(), built on first use (nullptr when raster
   /// was not prepared). Not const: a memo that every engine over this geometry shares.
@@ -65,6 +68,7 @@ class Geometry {
   std::size_t triangle_count_ = 0;
   std::size_t two_sided_count_ = 0;
   Sidedness sidedness_ = Sidedness::Auto;
+  bool has_cutouts_ = false;
   bvh::BvhOptions bvh_options_;
   std::unique_ptr<LodCache> lod_cache_;
 };

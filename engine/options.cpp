@@ -13,12 +13,12 @@ namespace {
 constexpr std::array kMethods{Method::Auto, Method::Embree, Method::Brute, Method::Bvh, Method::Raster};
 
 // Every field of Options, as errors name them.
-constexpr std::array<std::string_view, 26> kOptionNames{
+constexpr std::array<std::string_view, 29> kOptionNames{
     "radius",       "samples",      "falloff",     "pattern_seed",  "origin_offset", "sidedness",
     "method",       "masks",        "threads",     "table_resolution", "bvh.branching", "bvh.max_leaf_size",
     "raster.alpha", "raster.stats", "embree.rays", "embree.across_receivers", "embree.coherent", "isa",
     "lod",          "lod_eps1",     "lod_levels",  "lod_k",         "lod_overlap",   "lod_filter",
-    "raster.ranges", "hybrid"};
+    "raster.ranges", "hybrid",      "cutouts",     "blend",         "blend_cutoff"};
 
 template <class Enum>
 bool in_range(Enum value, Enum last) {
@@ -71,6 +71,8 @@ Result<void> check_options(const Options& o) {
   }
   if (o.isa && !in_range(*o.isa, Isa::Avx512)) return fail("isa: not an instruction set, got " + number(static_cast<int>(*o.isa)));
   if (auto ok = bvh::check_options(o.bvh); !ok) return ok;
+  if (!in_range(o.cutouts.blend, BlendRule::Stochastic)) return fail("blend: not a rule, got " + number(static_cast<int>(o.cutouts.blend)));
+  if (auto ok = check_policy(o.cutouts); !ok) return ok;
   if (!(std::isfinite(o.raster.alpha) && o.raster.alpha > 0.0f)) {
     return fail("raster.alpha: must be a finite number > 0, got " + std::to_string(o.raster.alpha));
   }

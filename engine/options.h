@@ -14,6 +14,7 @@
 
 #include "bvh/bvh.h"
 #include "bvh/hybrid.h"
+#include "core/cutouts.h"
 #include "core/embree_reference.h"
 #include "core/error.h"
 #include "core/isa.h"
@@ -82,6 +83,10 @@ struct Options {
   std::optional<raster::LodOptions> lod;
   /// How Embree is asked (method embree, and the reference in comparisons).
   EmbreeOptions embree;
+  /// Cut-outs (core/cutouts.h): whether glTF MASK materials let rays through where their alpha
+  /// is below alphaCutoff (the default), and what BLEND materials do (opaque by default). Every
+  /// method but raster serves them; errors name "cutouts", "blend" and "blend_cutoff".
+  CutoutPolicy cutouts;
 };
 
 /// The most worker threads Options::threads may ask for: oneTBB's ceiling, 256 or 4x the cores.

@@ -5,10 +5,14 @@
 
 #include <tiny_gltf.h>
 
+#include <cstdint>
 #include <filesystem>
+#include <span>
 #include <string>
 #include <utility>
+#include <vector>
 
+#include "io/gltf_cutouts.h"
 #include "io/gltf_file.h"
 #include "io/gltf_model.h"
 #include "io/gltf_walk.h"
@@ -19,23 +23,23 @@ namespace {
 
 using namespace gltf;  // the shared reader: io/gltf_file.h, gltf_model.h, gltf_walk.h
 
-// The scene is the walk's (io/gltf_walk.h, shared with the bake); the rest of it is dropped.
-Result<Scene> build_scene(const tinygltf::Model& model) {
+// The scene is the walk's (io/gltf_walk.h, shared with the bake), with its cut-outs
+// (io/gltf_cutouts.h); the rest of it is dropped.
+Result<Scene> build_scene(const tinygltf::Model& model, std::span<const std::vector<std::uint8_t>> images) {
   Result<ModelWalk> walk = walk_model(model);
   if (!walk) return std::unexpected(walk.error());
+  walk->scene.cutouts = read_cutouts(model, *walk, images, walk->scene.report.notes);
   return std::move(walk->scene);
 }
 
-// AO needs no texture: images are neither decoded nor required to exist.
-bool ignore_image(tinygltf::Image*, const int, std::string*, std::string*, int, int,
-                  const unsigned char*, int, void*) {
-  return true;
-}
-
+// Images are kept encoded (keep_image_bytes); only cut-out materials' are decoded, and a missing
+// one is not an error.
 Result<Scene> load(const std::string& path) {
-  Result<File> file = read_file(path, &ignore_image, nullptr);  // Draco and meshopt decoded
+  std::vector<std::vector<std::uint8_t>> images;
+  Result<File> file = read_file(path, &keep_image_bytes, &images);  // Draco and meshopt decoded
   if (!file) return std::unexpected(file.error());
-  Result<Scene> scene = build_scene(file->model);
+  images.resize(file->model.images.size());
+  Result<Scene> scene = build_scene(file->model, images);
   if (scene) scene->report.notes.insert(scene->report.notes.end(), file->notes.begin(), file->notes.end());
   return scene;
 }

@@ -40,6 +40,7 @@
 #include "core/mask.h"
 #include "core/receiver_frame.h"
 #include "core/shadow_rays.h"
+#include "lut/cutout_filter.h"
 #include "lut/mask_kernels.h"
 #include "lut/plane_table.h"
 #include "lut/sample_arrays.h"
@@ -126,7 +127,10 @@ class MaskEngine {
   [[nodiscard]] Mask<Bits> triangle_mask(const TriangleSet& triangles, std::uint32_t t, const Frame& frame,
                                          std::uint64_t allowed = kAllClusters<Bits>,
                                          KernelCounters* counters = nullptr) const {
-    return kernels_->get<Bits>().triangle_mask(context_, triangles, t, frame, allowed, counters);
+    Mask<Bits> mask = kernels_->get<Bits>().triangle_mask(context_, triangles, t, frame, allowed, counters);
+    // A cut-out triangle (t is the scene's index: a TriangleSet in scene order) keeps the bits its alpha blocks.
+    if (triangles.cutouts && triangles.cutout[t] && mask.any()) keep_cutout_hits(*triangles.cutouts, t, rays(), frame, mask.words);
+    return mask;
   }
 
   /// Conservative mask of a sphere: every ray i whose segment [0, l_i r w_i] can meet the

@@ -42,6 +42,11 @@ TriangleSet TriangleSet::build(const Scene& scene) {
   set.two_sided = scene.two_sided;
   set.centre.resize(n);
   set.radius.resize(n);
+  set.cutout.assign(n, 0);
+  if (scene.cutouts && scene.cutouts->any()) {
+    set.cutouts = scene.cutouts;
+    for (std::size_t t = 0; t < n; ++t) set.cutout[t] = scene.cutouts->tests(t) ? 1 : 0;
+  }
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& range) {
     for (std::size_t t = range.begin(); t != range.end(); ++t) {
       set.v0[t] = scene.vertices[3 * t];

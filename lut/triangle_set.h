@@ -5,10 +5,12 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include <glm/glm.hpp>
 
+#include "core/cutouts.h"
 #include "core/scene.h"
 
 namespace exao::lut {
@@ -22,7 +24,8 @@ struct PackedTriangle {
   glm::vec3 centre{0.0f};                  // bounding sphere (TriangleSet::centre, radius)
   float radius = 0.0f;
   std::uint32_t two_sided = 0;
-  std::uint32_t unused[2] = {0, 0};
+  std::uint32_t cutout = 0;  // 1: alpha-tested (TriangleSet::cutout): its mask bits go through the decision
+  std::uint32_t unused = 0;
 };
 static_assert(sizeof(PackedTriangle) == 64);
 
@@ -33,10 +36,14 @@ struct TriangleSet {
   std::vector<glm::vec3> centre;        // bounding sphere: the smallest sphere holding v0, v1, v2
   std::vector<float> radius;            // ... its radius, rounded up so that every vertex is inside
                                         // in exact arithmetic on the stored floats
+  std::vector<std::uint8_t> cutout;     // 1: alpha-tested (Scene::cutouts->tests(scene index))
+  /// The scene's cut-outs when any triangle is alpha-tested, else nullptr: a mask bit of a
+  /// triangle with `cutout` set stands only where cutouts->blocks says so (filter_cutout_rays).
+  std::shared_ptr<const Cutouts> cutouts;
 
   [[nodiscard]] std::size_t size() const { return two_sided.size(); }
   [[nodiscard]] PackedTriangle packed(std::size_t t) const {
-    return {v0[t], v1[t], v2[t], centre[t], radius[t], two_sided[t], {0, 0}};
+    return {v0[t], v1[t], v2[t], centre[t], radius[t], two_sided[t], cutout[t], 0};
   }
 
   /// Copies the scene's triangles and computes their spheres (in double, then the radius is

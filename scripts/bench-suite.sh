@@ -39,6 +39,10 @@ run vertices "Conference vertex-bake receivers" "$conference" --receivers vertic
   --methods auto,bvh --masks exact
 run texels "CesiumMilkTruck texel-bake receivers 1024^2" "$truck" --receivers texels:1024 -n 128 -r 5% \
   --methods auto,bvh --masks exact
+# Cut-outs (issue 24): the built-in foliage scene (checker-alpha cards over a ground, alphaMode
+# MASK), against Embree with its occlusion filter deciding the alpha of every hit.
+run foliage "foliage pixels 256x192 (alpha-tested cards)" foliage -W 256 -H 192 -n 128 -r 5% \
+  --methods auto,bvh --masks exact --repeats 2
 # The Khronos models' vertices: receivers in dense geometry (issue 19).
 khronos=()
 for model in 2CylinderEngine BrainStem CesiumMilkTruck Fox; do
@@ -64,7 +68,7 @@ fi
 {
   echo "| workload | N | r | method | Mrays/s | x embree | rays agreeing | receivers identical |"
   echo "|---|---|---|---|---|---|---|---|"
-  for name in pixels vertices texels "${khronos[@]}"; do tail -n +3 "$out/$name.md"; done
+  for name in pixels vertices texels foliage "${khronos[@]}"; do tail -n +3 "$out/$name.md"; done
   for json in "$out"/api-*.json; do
     [ -e "$json" ] || continue
     tag=$(basename "$json" .json)

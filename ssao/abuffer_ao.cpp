@@ -2,6 +2,8 @@
 
 #include <cassert>
 
+#include "core/cutouts.h"
+
 namespace exao::ssao {
 namespace {
 
@@ -12,7 +14,11 @@ struct AllFragments {
   template <class Emit>
   void layers(const View& view, std::size_t q, const glm::dvec2& c, Emit&& emit) const {
     for (const Fragment& f : fragments->at(q)) {
-      const float opacity = scene->opacity(f.triangle);
+      // A cut-out's opacity is its alpha where the pixel's centre ray meets it (core/cutouts.h).
+      const glm::dvec3 at = view.point_at(q, static_cast<double>(f.depth));
+      const float opacity = scene->cutouts && scene->cutouts->tests(f.triangle)
+                                ? scene->cutouts->opacity(f.triangle, glm::vec3(view.eye), glm::vec3(at - view.eye))
+                                : scene->opacity(f.triangle);
       if (!(opacity > 0.0f)) continue;
       // The fragment's triangle's plane, extended to the sample point c (ssao/horizon_march.h).
       const auto v = scene->triangle(f.triangle);
