@@ -39,6 +39,30 @@ namespace exao::ssao {
 /// way in [0, 1], in any order. Called from many threads at once.
 using SegmentHits = std::function<void(const glm::dvec3& from, const glm::dvec3& to, std::vector<double>& out)>;
 
+/// SegmentHits from a nearest-hit query, closest(origin, unit direction) -> optional distance
+/// (any face, t >= 0): the walk restarts a little past each hit, 1e-6 of the segment's length
+/// (a crossing closer than that to the previous one is the same surface, or a shared edge), and
+/// stops past the segment's end or after 256 crossings.
+template <class Closest>
+[[nodiscard]] SegmentHits segment_hits_by_closest(Closest closest) {
+  return [closest](const glm::dvec3& from, const glm::dvec3& to, std::vector<double>& out) {
+    const glm::dvec3 d = to - from;
+    const double length = glm::length(d);
+    if (!(length > 0.0)) return;
+    const glm::dvec3 dir = d / length;
+    const double skip = 1e-6 * length;
+    double t = 0.0;
+    for (int k = 0; k < 256; ++k) {
+      const auto hit = closest(from + t * dir, dir);
+      if (!hit) return;
+      t += static_cast<double>(*hit);
+      if (t > length) return;
+      out.push_back(t / length);
+      t += skip;
+    }
+  };
+}
+
 /// RT-SVAO in the paper's form: phase 1's AO with every flagged sample's column ray-cast through
 /// `hits` (Sec. 3.8). Not clamped, like phase 1's.
 [[nodiscard]] std::vector<float> rt_svao_columns(const View& view, const VaoResult& phase1, const Settings& settings,
