@@ -72,7 +72,7 @@ Camera secondary_camera(const View& main, const MultiViewOptions& options) {
   // the eye toward the main camera's right.
   const glm::dvec3 k = glm::normalize(main.up);
   const glm::dvec3 d = main.eye - pivot;
-  const double a = -glm::radians(options.angle_degrees);
+  const double a = glm::radians(options.angle_degrees);
   const glm::dvec3 turned = d * std::cos(a) + glm::cross(k, d) * std::sin(a) + k * glm::dot(k, d) * (1.0 - std::cos(a));
   const glm::dvec3 eye = pivot + turned;
   const glm::dvec3 forward = glm::normalize(pivot - eye);
