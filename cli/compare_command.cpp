@@ -235,7 +235,8 @@ int run_compare(const CompareCommandOptions& o) {
   const ssao::RgbImage legend = ssao::heat_map_legend(main.view.width, main.view.height);
   cells.push_back({"EXACT N=" + std::to_string(rays->count()), &greys[0], &legend});
   for (std::size_t i = 0; i < main.methods.size(); ++i) {
-    cells.push_back({std::string(ssao::method_label(main.methods[i].method)) + " MAE " + fixed(stats[i].mean_abs, 3), &greys[i + 1], &heats[i]});
+    // Label and mean abs error: at most 20 characters fit over a 240-pixel tile.
+    cells.push_back({std::string(ssao::method_label(main.methods[i].method)) + " " + fixed(stats[i].mean_abs, 3), &greys[i + 1], &heats[i]});
   }
   if (auto ok = write_rgb(ssao::contact_sheet(cells, 4, 320), (dir / "contact-sheet.png").string()); !ok) return report(ok.error());
 
@@ -289,7 +290,8 @@ int run_compare(const CompareCommandOptions& o) {
         const ssao::ErrorStats d = ssao::error_stats(m.ao, full.ao, main.view.valid);
         row["against_uncompressed"] = {{"mean_abs", d.mean_abs}, {"within_255", d.within_255},
                                        {"time_ratio", full.seconds > 0.0 ? m.seconds / full.seconds : 0.0}};
-        versus_full.push_back(std::string(ssao::method_label(m.method)) + ": mean |AO - A-BUFFER| " + fixed(d.mean_abs, 4) + ", " +
+        versus_full.push_back(std::string(ssao::method_label(m.method)) + ": " + std::to_string(m.fragments) + " fragments, mean |AO - A-BUFFER| " +
+                              fixed(d.mean_abs, 5) + ", " +
                               percent(d.within_255) + " within 1/255, time " + fixed(m.seconds, 3) + " s (" +
                               fixed(full.seconds > 0.0 ? m.seconds / full.seconds : 0.0, 2) + "x)");
       }
