@@ -283,17 +283,21 @@ int run_compare(const CompareCommandOptions& o) {
     }
     if (ssao::is_stereo(m.method)) row["stereo_pass"] = {{"reprojected_pixels", m.reprojected}, {"hole_pixels", m.holes}, {"both_eyes", true}};
     if (m.fragments) row["fragments"] = m.fragments;
-    // The compressed lists against the uncompressed ones, when both ran (seed 004 Sec. V-A).
-    if (ssao::list_nodes(m.method) > 0 || m.method == ssao::Method::AbufferOit) {
+    // A variant against the row it approximates, when both ran: the compressed lists and the
+    // transparent receivers against the A-buffer (seed 004 Sec. V-A), the 2D stereo filter
+    // against the separable one (seed 003 Fig. 7).
+    const ssao::Method reference = m.method == ssao::Method::StereoHbaoPlus2d ? ssao::Method::StereoHbaoPlus : ssao::Method::Abuffer;
+    if (ssao::list_nodes(m.method) > 0 || m.method == ssao::Method::AbufferOit || m.method == ssao::Method::StereoHbaoPlus2d) {
       for (const ssao::MethodResult& full : main.methods) {
-        if (full.method != ssao::Method::Abuffer) continue;
+        if (full.method != reference) continue;
         const ssao::ErrorStats d = ssao::error_stats(m.ao, full.ao, main.view.valid);
-        row["against_uncompressed"] = {{"mean_abs", d.mean_abs}, {"within_255", d.within_255},
-                                       {"time_ratio", full.seconds > 0.0 ? m.seconds / full.seconds : 0.0}};
-        versus_full.push_back(std::string(ssao::method_label(m.method)) + ": " + std::to_string(m.fragments) + " fragments, mean |AO - A-BUFFER| " +
-                              fixed(d.mean_abs, 5) + ", " +
-                              percent(d.within_255) + " within 1/255, time " + fixed(m.seconds, 3) + " s (" +
-                              fixed(full.seconds > 0.0 ? m.seconds / full.seconds : 0.0, 2) + "x)");
+        const double ratio = full.seconds > 0.0 ? m.seconds / full.seconds : 0.0;
+        row["against"] = {{"method", ssao::method_name(reference)}, {"mean_abs", d.mean_abs}, {"rmse", d.rmse},
+                          {"within_255", d.within_255}, {"time_ratio", ratio}};
+        versus_full.push_back(std::string(ssao::method_label(m.method)) + ": " +
+                              (m.fragments ? std::to_string(m.fragments) + " fragments, " : std::string()) + "mean |AO - " +
+                              ssao::method_label(reference) + "| " + fixed(d.mean_abs, 5) + ", RMSE " + fixed(d.rmse, 5) + ", " +
+                              percent(d.within_255) + " within 1/255, time " + fixed(m.seconds, 3) + " s (" + fixed(ratio, 2) + "x)");
       }
     }
     const auto e = stereo_of(i + 1);
