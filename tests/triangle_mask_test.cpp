@@ -281,7 +281,7 @@ TEST(TriangleMask, LeafSetupInLanesEqualsTheOneTriangleKernel) {
           for (int trial = 0; trial < 40; ++trial) {
             // Receivers inside the cloud (a few on a triangle's own vertex).
             Frame frame = random_frame(rng, rays, r);
-            if (trial % 8 == 0) frame.origin = tree.triangles.v1[rng.next() % tree.triangles.size()];
+            if (trial % 8 == 0) frame.origin = set.v1[rng.next() % set.size()];
             const std::uint64_t allowed = trial % 2 ? kAllClusters<Bits> : (rng.next() & kAllClusters<Bits>);
             for (const bvh::Node& node : tree.nodes) {
               for (int k = 0; k < node.child_count; ++k) {
@@ -289,7 +289,8 @@ TEST(TriangleMask, LeafSetupInLanesEqualsTheOneTriangleKernel) {
                 Mask<Bits> lanes[bvh::LeafBlock::kLanes];
                 bvh::leaf_masks<Bits>(tree, engine, frame, node.child[k], node.leaf_size[k], allowed, lanes);
                 for (int l = 0; l < node.leaf_size[k]; ++l) {
-                  const Mask<Bits> one = engine.triangle_mask<Bits>(tree.triangles, node.child[k] + l, frame, allowed);
+                  const Mask<Bits> one =
+                      engine.triangle_mask<Bits>(set, tree.scene_triangle[node.child[k] + l], frame, allowed);
                   nonempty += one.any();
                   ASSERT_EQ(lanes[l], one) << isa_name(isa) << " N " << n << " trial " << trial << " triangle "
                                            << node.child[k] + l;
