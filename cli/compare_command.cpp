@@ -3,6 +3,7 @@
 // --stereo, each method's inconsistency between the eyes (seed 003). A thin layer: the methods
 // and the measurements are in ssao/, the exact AO is the bvh method of the library engine (engine/).
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -22,11 +23,13 @@
 #include "cli/common_options.h"
 #include "cli/progress_bar.h"
 #include "core/atomic_write.h"
+#include "core/embree_reference.h"
 #include "io/image_io.h"
 #include "engine/engine.h"
 #include "ssao/compare.h"
 #include "ssao/contact_sheet.h"
 #include "ssao/error_stats.h"
+#include "ssao/grazing_box.h"
 #include "ssao/stereo.h"
 
 namespace exao::cli {
@@ -37,7 +40,7 @@ struct CompareCommandOptions {
   RayOptions rays;
   CameraOptions camera;
   std::string masks = "lut";
-  std::string methods = "hbao,hbao+,vao,sdao,svao,rtsvao,abuffer";
+  std::string methods = "all";
   std::string output = "compare";
   int directions = 8;
   int steps = 4;
@@ -51,6 +54,8 @@ struct CompareCommandOptions {
   std::optional<double> stereo;
   std::string key = "pixel";
   double key_cell = 0.25;
+  double mv_angle = 45.0;
+  bool compress_whole_list = false;
 };
 
 Result<void> write_text(const std::string& text, const std::string& path) {
@@ -70,6 +75,7 @@ Error as_flag_error(const Error& error) {
       {"bias:", "--bias:"},               {"cosine:", "--cosine:"},         {"thickness:", "--thickness:"},   {"blur:", "--blur:"},
       {"stochastic depth samples:", "--sd-samples:"}, {"stochastic depth alpha:", "--sd-alpha:"},
       {"key cell:", "--key-cell:"},       {"radius:", "--radius:"},
+      {"secondary view angle:", "--mv-angle:"}, {"stereo eye distance:", "--stereo:"},
   };
   for (const auto& [name, flag] : kFlags) {
     if (error.message.starts_with(name)) return Error{flag + error.message.substr(std::string_view(name).size())};
@@ -134,7 +140,8 @@ int run_compare(const CompareCommandOptions& o) {
     threads.emplace(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(engine_options->threads));
   }
 
-  Result<Scene> scene = open_scene(o.scene);
+  // seed 000's Fig. 3 case is a scene of the comparison's own (ssao/grazing_box.h).
+  Result<Scene> scene = o.scene.scene == ssao::kGrazingBoxName ? Result<Scene>(ssao::make_grazing_box()) : open_scene(o.scene);
   if (!scene) return report(scene.error());
   // The G-buffer sees the sidedness the exact AO uses.
   apply_sidedness(*scene, engine_options->sidedness);
@@ -162,6 +169,10 @@ int run_compare(const CompareCommandOptions& o) {
   options.stochastic.samples = o.sd_samples;
   options.stochastic.alpha = o.sd_alpha;
   if (o.key == "world") options.world_key_cell = static_cast<float>(o.key_cell * rays->radius);
+  options.multiview.angle_degrees = o.mv_angle;
+  options.keep_front_half = !o.compress_whole_list;
+  // Stereo HBAO+'s other eye: --stereo's, or a tenth of the radius to the right.
+  options.stereo_ipd = o.stereo ? *o.stereo : 0.1 * static_cast<double>(rays->radius);
   if (auto ok = ssao::check(options); !ok) return report(as_flag_error(ok.error()));
 
   std::error_code ec;
@@ -179,13 +190,28 @@ int run_compare(const CompareCommandOptions& o) {
     return std::vector<float>(receivers.size(), 1.0f);
   };
 
+  // RT-SVAO's column rays: every crossing, by Embree's nearest hits (either face).
+  std::optional<EmbreeScene> embree;
+  ssao::SegmentHits hits;
+  if (std::find(options.methods.begin(), options.methods.end(), ssao::Method::RtSvaoRays) != options.methods.end()) {
+    Result<EmbreeScene> built = EmbreeScene::build(*scene);
+    if (!built) return report(built.error());
+    embree.emplace(std::move(*built));
+    hits = ssao::segment_hits_by_closest([&embree](const glm::dvec3& origin, const glm::dvec3& direction) -> std::optional<double> {
+      const auto hit = embree->closest_hit(glm::vec3(origin), glm::vec3(direction));
+      if (!hit) return std::nullopt;
+      return static_cast<double>(hit->distance);
+    });
+  }
+
   std::vector<Camera> cameras = {*camera};
   if (o.stereo) {
-    const auto [left, right] = ssao::stereo_cameras(*camera, *o.stereo);
-    cameras = {left, right};
+    const auto eyes = ssao::stereo_cameras(*camera, *o.stereo);
+    cameras = {eyes.first, eyes.second};
+    options.stereo_eyes = eyes;
   }
   std::vector<ssao::ViewResult> views;
-  for (const Camera& c : cameras) views.push_back(ssao::compare_view(*scene, c, o.camera.width, *height, options, exact));
+  for (const Camera& c : cameras) views.push_back(ssao::compare_view(*scene, c, o.camera.width, *height, options, exact, hits));
   if (exact_error) return report(*exact_error);
   const ssao::ViewResult& main = views.front();
   std::optional<ssao::Correspondence> pairs;
@@ -211,7 +237,8 @@ int run_compare(const CompareCommandOptions& o) {
   const ssao::RgbImage legend = ssao::heat_map_legend(main.view.width, main.view.height);
   cells.push_back({"EXACT N=" + std::to_string(rays->count()), &greys[0], &legend});
   for (std::size_t i = 0; i < main.methods.size(); ++i) {
-    cells.push_back({std::string(ssao::method_label(main.methods[i].method)) + " MAE " + fixed(stats[i].mean_abs(), 3), &greys[i + 1], &heats[i]});
+    // Label and mean abs error: at most 20 characters fit over a 240-pixel tile.
+    cells.push_back({std::string(ssao::method_label(main.methods[i].method)) + " " + fixed(stats[i].mean_abs(), 3), &greys[i + 1], &heats[i]});
   }
   if (auto ok = write_rgb(ssao::contact_sheet(cells, 4, 320), (dir / "contact-sheet.png").string()); !ok) return report(ok.error());
 
@@ -245,6 +272,7 @@ int run_compare(const CompareCommandOptions& o) {
   md << "| exact (bvh, N = " << rays->count() << ") | 0 | 0 | 0 | 100% | 100% | " << fixed(main.exact_seconds, 3) << " |"
      << (pairs ? " " + fixed(stereo_of(0)->mean, 4) + " |" : "") << "\n";
   j["methods"] = nlohmann::json::array();
+  std::vector<std::string> versus_full;
   for (std::size_t i = 0; i < main.methods.size(); ++i) {
     const ssao::MethodResult& m = main.methods[i];
     const AoError& s = stats[i];
@@ -252,7 +280,28 @@ int run_compare(const CompareCommandOptions& o) {
                        {"mean_abs", s.mean_abs()}, {"bias", s.bias()}, {"rmse", s.rmse()}, {"within_255", s.within_255_share()},
                        {"within_16", s.within_16_share()}, {"seconds", m.seconds},
                        {"map_seconds", m.map_seconds}};
-    if (m.method == ssao::Method::SdSvao || m.method == ssao::Method::RtSvao) row["flagged_pixels"] = m.flagged;
+    if (m.method == ssao::Method::SdSvao || m.method == ssao::Method::RtSvao || m.method == ssao::Method::RtSvaoRays) {
+      row["flagged_pixels"] = m.flagged;
+    }
+    if (ssao::is_stereo(m.method)) row["stereo_pass"] = {{"reprojected_pixels", m.reprojected}, {"hole_pixels", m.holes}, {"both_eyes", true}};
+    if (m.fragments) row["fragments"] = m.fragments;
+    // A variant against the row it approximates, when both ran: the compressed lists and the
+    // transparent receivers against the A-buffer (seed 004 Sec. V-A), the 2D stereo filter
+    // against the separable one (seed 003 Fig. 7).
+    const ssao::Method reference = m.method == ssao::Method::StereoHbaoPlus2d ? ssao::Method::StereoHbaoPlus : ssao::Method::Abuffer;
+    if (ssao::list_nodes(m.method) > 0 || m.method == ssao::Method::AbufferOit || m.method == ssao::Method::StereoHbaoPlus2d) {
+      for (const ssao::MethodResult& full : main.methods) {
+        if (full.method != reference) continue;
+        const AoError d = ssao::error_stats(m.ao, full.ao, main.view.valid);
+        const double ratio = full.seconds > 0.0 ? m.seconds / full.seconds : 0.0;
+        row["against"] = {{"method", ssao::method_name(reference)}, {"mean_abs", d.mean_abs()}, {"rmse", d.rmse()},
+                          {"within_255", d.within_255_share()}, {"time_ratio", ratio}};
+        versus_full.push_back(std::string(ssao::method_label(m.method)) + ": " +
+                              (m.fragments ? std::to_string(m.fragments) + " fragments, " : std::string()) + "mean |AO - " +
+                              ssao::method_label(reference) + "| " + fixed(d.mean_abs(), 5) + ", RMSE " + fixed(d.rmse(), 5) + ", " +
+                              percent(d.within_255_share()) + " within 1/255, time " + fixed(m.seconds, 3) + " s (" + fixed(ratio, 2) + "x)");
+      }
+    }
     const auto e = stereo_of(i + 1);
     if (e) row["stereo"] = stereo_json(*e);
     j["methods"].push_back(row);
@@ -261,6 +310,13 @@ int run_compare(const CompareCommandOptions& o) {
        << (e ? " " + fixed(e->mean, 4) + " |" : "") << "\n";
   }
   if (pairs) j["stereo"] = {{"ipd", *o.stereo}, {"pixels_compared", pairs->left.size()}, {"left_pixels", pairs->left_visible}};
+  j["stereo_hbao_plus_ipd"] = options.stereo_ipd;
+  j["other_eye_gbuffer_seconds"] = main.other_eye_seconds;
+  if (main.secondary) {
+    const Camera& c = *main.secondary;
+    j["secondary_camera"] = {{"eye", {c.eye.x, c.eye.y, c.eye.z}}, {"forward", {c.forward.x, c.forward.y, c.forward.z}},
+                             {"yfov_degrees", glm::degrees(c.yfov)}, {"angle_degrees", o.mv_angle}};
+  }
   if (auto ok = write_text(j.dump(2) + "\n", (dir / "compare.json").string()); !ok) return report(ok.error());
   if (auto ok = write_text(md.str(), (dir / "compare.md").string()); !ok) return report(ok.error());
 
@@ -269,6 +325,18 @@ int run_compare(const CompareCommandOptions& o) {
               main.view.receivers.receivers.size(), static_cast<double>(rays->radius), rays->count(), main.gbuffer_seconds,
               main.fragment_seconds, o.output.c_str());
   std::printf("%s", md.str().c_str());
+  for (const std::string& line : versus_full) std::printf("%s\n", line.c_str());
+  if (main.secondary) {
+    const Camera& c = *main.secondary;
+    std::printf("MV-SD-HBAO+: secondary eye (%g, %g, %g), turned %g degrees, field of view %.1f degrees\n", static_cast<double>(c.eye.x),
+                static_cast<double>(c.eye.y), static_cast<double>(c.eye.z), o.mv_angle, static_cast<double>(glm::degrees(c.yfov)));
+  }
+  for (const ssao::MethodResult& m : main.methods) {
+    if (!ssao::is_stereo(m.method)) continue;
+    std::printf("%s: other eye %g to the side, %zu pixels reprojected, %zu holes evaluated (both eyes timed)\n", ssao::method_label(m.method),
+                options.stereo_ipd, m.reprojected, m.holes);
+    break;
+  }
   if (pairs) {
     std::printf("stereo: IPD %g, %zu of %zu left pixels seen by both eyes; E = mean |AO_left - AO_right reprojected|, key %s\n",
                 *o.stereo, pairs->left.size(), pairs->left_visible, o.key.c_str());
@@ -287,7 +355,11 @@ Command add_compare_command(CLI::App& app) {
   add_ray_options(*command, o->rays);
   add_camera_options(*command, o->camera);
   command->add_option("--masks", o->masks, "Exact AO's plane masks: lut or exact")->capture_default_str();
-  command->add_option("--methods", o->methods, "Comma-separated: hbao, hbao+, vao, sdao (stochastic-depth HBAO), svao (SD-SVAO), rtsvao (RT-SVAO), abuffer")
+  command->add_option("--methods", o->methods,
+                      "Comma-separated, or all: hbao, hbao+, vao, sdao (stochastic-depth HBAO), svao (SD-SVAO), rtsvao (RT-SVAO, exact AO at "
+                      "flagged pixels), abuffer, shbao+ (stereo HBAO+, separable stereo filter), shbao+2d (full 2D stereo filter), "
+                      "sdao+ (stochastic-depth HBAO+), mvsdao+ (multi-view SD-HBAO+), rtsvao-rays (RT-SVAO with column rays), "
+                      "abuffer-m4, abuffer-m8 (compressed lists), abuffer-oit (transparent receivers)")
       ->capture_default_str();
   command->add_option("-o,--output", o->output, "Output folder")->capture_default_str();
   command->add_option("--directions", o->directions, "HBAO/HBAO+ directions per pixel")->capture_default_str();
@@ -305,6 +377,9 @@ Command add_compare_command(CLI::App& app) {
   command->add_option("--key", o->key, "Exact AO receiver keys: pixel (exao render's) or world (hash of the quantised position)")
       ->capture_default_str();
   command->add_option("--key-cell", o->key_cell, "World keys: grid cell as a fraction of the radius")->capture_default_str();
+  command->add_option("--mv-angle", o->mv_angle, "mvsdao+: the secondary eye's turn about the camera's up axis, degrees")->capture_default_str();
+  command->add_flag("--compress-whole-list", o->compress_whole_list,
+                    "abuffer-m4/m8: apply seed 004's Eq. 5 to the whole list (default: keep its front half)");
   return [o, command](const Invocation&) { return command->parsed() ? run_compare(*o) : -1; };
 }
 

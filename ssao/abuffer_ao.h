@@ -17,9 +17,33 @@
 
 #include "core/scene.h"
 #include "ssao/fragment_buffer.h"
+#include "ssao/fragment_opacity.h"
 #include "ssao/horizon_march.h"
 
 namespace exao::ssao {
+namespace detail {
+
+/// The Layers policy of ssao/horizon_march.h over an A-buffer: every fragment of the sampled
+/// pixel with its opacity (fragment_opacity; transparent ones skipped), each as its triangle's
+/// plane met by the ray through the step's screen point.
+struct AllFragments {
+  static constexpr bool kAllLayers = true;
+  const FragmentBuffer* fragments;
+  const Scene* scene;
+  template <class Emit>
+  void layers(const View& view, std::size_t q, const glm::dvec2& c, Emit&& emit) const {
+    for (const Fragment& f : fragments->at(q)) {
+      const float opacity = fragment_opacity(*scene, view, q, f);
+      if (!(opacity > 0.0f)) continue;
+      // The fragment's triangle's plane, extended to the sample point c (ssao/horizon_march.h).
+      const auto v = scene->triangle(f.triangle);
+      const glm::dvec3 normal = glm::cross(glm::dvec3(v[1]) - glm::dvec3(v[0]), glm::dvec3(v[2]) - glm::dvec3(v[0]));
+      emit(view.point_on_plane(c, view.point_at(q, static_cast<double>(f.depth)), normal), static_cast<double>(opacity));
+    }
+  }
+};
+
+}  // namespace detail
 
 /// AO per pixel, before any blur. `fragments` must be the view's size and from `scene`.
 [[nodiscard]] std::vector<float> abuffer_ao(const View& view, const FragmentBuffer& fragments, const Scene& scene,

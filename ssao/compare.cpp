@@ -7,10 +7,17 @@
 #include <sstream>
 
 #include "core/world_key.h"
+#include <cassert>
+#include <utility>
+
 #include "ssao/abuffer_ao.h"
+#include "ssao/abuffer_oit.h"
 #include "ssao/bilateral.h"
 #include "ssao/fragment_buffer.h"
 #include "ssao/sd_hbao.h"
+#include "ssao/stereo.h"
+#include "ssao/stereo_filter.h"
+#include "ssao/stereo_hbao_plus.h"
 #include "ssao/svao.h"
 
 namespace exao::ssao {
@@ -19,7 +26,15 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
-bool needs_fragments(Method m) { return m == Method::SdHbao || m == Method::SdSvao || m == Method::Abuffer; }
+bool needs_fragments(Method m) {
+  switch (m) {
+    case Method::SdHbao: case Method::SdSvao: case Method::Abuffer: case Method::SdHbaoPlus: case Method::MvSdHbaoPlus:
+    case Method::AbufferM4: case Method::AbufferM8: case Method::AbufferOit:
+      return true;
+    default:
+      return false;
+  }
+}
 
 }  // namespace
 
@@ -32,6 +47,14 @@ const char* method_name(Method method) {
     case Method::SdSvao: return "svao";
     case Method::RtSvao: return "rtsvao";
     case Method::Abuffer: return "abuffer";
+    case Method::StereoHbaoPlus: return "shbao+";
+    case Method::StereoHbaoPlus2d: return "shbao+2d";
+    case Method::SdHbaoPlus: return "sdao+";
+    case Method::MvSdHbaoPlus: return "mvsdao+";
+    case Method::RtSvaoRays: return "rtsvao-rays";
+    case Method::AbufferM4: return "abuffer-m4";
+    case Method::AbufferM8: return "abuffer-m8";
+    case Method::AbufferOit: return "abuffer-oit";
   }
   return "?";
 }
@@ -45,19 +68,46 @@ const char* method_label(Method method) {
     case Method::SdSvao: return "SD-SVAO";
     case Method::RtSvao: return "RT-SVAO";
     case Method::Abuffer: return "A-BUFFER";
+    case Method::StereoHbaoPlus: return "S-HBAO+";
+    case Method::StereoHbaoPlus2d: return "S-HBAO+ 2D";
+    case Method::SdHbaoPlus: return "SD-HBAO+";
+    case Method::MvSdHbaoPlus: return "MV-SD-HBAO+";
+    case Method::RtSvaoRays: return "RT-SVAO RAYS";
+    case Method::AbufferM4: return "A-BUFFER M=4";
+    case Method::AbufferM8: return "A-BUFFER M=8";
+    case Method::AbufferOit: return "A-BUFFER OIT";
   }
   return "?";
 }
 
 std::vector<Method> all_methods() {
-  return {Method::Hbao, Method::HbaoPlus, Method::Vao, Method::SdHbao, Method::SdSvao, Method::RtSvao, Method::Abuffer};
+  return {Method::Hbao,      Method::HbaoPlus,       Method::Vao,          Method::SdHbao,       Method::SdSvao,
+          Method::RtSvao,    Method::Abuffer,        Method::StereoHbaoPlus, Method::StereoHbaoPlus2d, Method::SdHbaoPlus,
+          Method::MvSdHbaoPlus, Method::RtSvaoRays,  Method::AbufferM4,    Method::AbufferM8,    Method::AbufferOit};
 }
+
+std::string all_method_names() {
+  std::string out;
+  for (const Method m : all_methods()) out += (out.empty() ? "" : ", ") + std::string(method_name(m));
+  return out;
+}
+
+bool is_stereo(Method method) { return method == Method::StereoHbaoPlus || method == Method::StereoHbaoPlus2d; }
+
+int list_nodes(Method method) { return method == Method::AbufferM4 ? 4 : method == Method::AbufferM8 ? 8 : 0; }
 
 Result<std::vector<Method>> parse_methods(const std::string& list) {
   std::vector<Method> out;
   std::stringstream in(list);
   std::string name;
   while (std::getline(in, name, ',')) {
+    if (name == "all") {
+      for (const Method m : all_methods()) {
+        if (std::find(out.begin(), out.end(), m) != out.end()) return fail("methods: '" + std::string(method_name(m)) + "' is listed twice");
+        out.push_back(m);
+      }
+      continue;
+    }
     bool found = false;
     for (const Method m : all_methods()) {
       if (name != method_name(m)) continue;
@@ -65,9 +115,9 @@ Result<std::vector<Method>> parse_methods(const std::string& list) {
       out.push_back(m);
       found = true;
     }
-    if (!found) return fail("methods: unknown method '" + name + "' (hbao, hbao+, vao, sdao, svao, rtsvao, abuffer)");
+    if (!found) return fail("methods: unknown method '" + name + "' (all, " + all_method_names() + ")");
   }
-  if (out.empty()) return fail("methods: the list is empty (hbao, hbao+, vao, sdao, svao, rtsvao, abuffer)");
+  if (out.empty()) return fail("methods: the list is empty (all, " + all_method_names() + ")");
   return out;
 }
 
@@ -81,6 +131,8 @@ Result<void> check(const CompareOptions& options) {
   if (auto ok = check(options.hbao_plus); !ok) return ok;
   if (auto ok = check(options.vao); !ok) return ok;
   if (auto ok = check(options.stochastic); !ok) return ok;
+  if (auto ok = check(options.multiview); !ok) return ok;
+  if (!(options.stereo_ipd > 0.0 && std::isfinite(options.stereo_ipd))) return fail("stereo eye distance: must be greater than 0");
   if (options.world_key_cell && !(*options.world_key_cell > 0.0f && std::isfinite(*options.world_key_cell))) {
     return fail("key cell: must be a length greater than 0");
   }
@@ -88,7 +140,7 @@ Result<void> check(const CompareOptions& options) {
 }
 
 ViewResult compare_view(const Scene& scene, const Camera& camera, int width, int height, const CompareOptions& options,
-                        const ExactAo& exact) {
+                        const ExactAo& exact, const SegmentHits& hits) {
   ViewResult r;
   auto start = Clock::now();
   r.view = make_view(scene, camera, width, height);
@@ -113,9 +165,31 @@ ViewResult compare_view(const Scene& scene, const Camera& camera, int width, int
     r.fragment_seconds = since(start);
   }
 
+  // Stereo HBAO+'s pair: this view and the other eye's G-buffer, left first.
+  std::optional<View> other_eye;
+  bool this_is_left = true;
+  if (std::any_of(options.methods.begin(), options.methods.end(), is_stereo)) {
+    Camera other;
+    if (options.stereo_eyes) {
+      this_is_left = camera.eye == options.stereo_eyes->first.eye;
+      other = this_is_left ? options.stereo_eyes->second : options.stereo_eyes->first;
+    } else {
+      other = camera;
+      other.eye = camera.eye + static_cast<float>(options.stereo_ipd) * glm::normalize(glm::cross(camera.forward, camera.up));
+      other.name = camera.name + "-right";
+    }
+    start = Clock::now();
+    other_eye = make_view(scene, other, width, height);
+    r.other_eye_seconds = since(start);
+  }
+  // Computed once, for both stereo rows, and charged to each.
+  std::optional<StereoObscurance> stereo_raw;
+  double stereo_raw_seconds = 0.0;
+
   const Settings& s = options.settings;
   for (const Method m : options.methods) {
-    MethodResult out{m, {}, 0.0, 0.0, 0};
+    MethodResult out{m, {}, 0.0, 0.0, 0, 0, 0, 0};
+    double extra_map_seconds = 0.0;  // geometry passes of this method's own (the secondary view's A-buffer)
     start = Clock::now();
     switch (m) {
       case Method::Hbao: out.ao = hbao(view, s, options.hbao); break;
@@ -148,16 +222,73 @@ ViewResult compare_view(const Scene& scene, const Camera& camera, int width, int
         out.flagged = pixels.size();
         break;
       }
-      case Method::Abuffer: out.ao = abuffer_ao(view, *fragments, scene, s, options.hbao); break;
+      case Method::Abuffer: out.ao = abuffer_ao(view, *fragments, scene, s, options.hbao); out.fragments = fragments->fragments.size(); break;
+      case Method::StereoHbaoPlus:
+      case Method::StereoHbaoPlus2d: {
+        const View& left = this_is_left ? view : *other_eye;
+        const View& right = this_is_left ? *other_eye : view;
+        if (!stereo_raw) {
+          const auto raw_start = Clock::now();
+          stereo_raw = stereo_hbao_plus(left, right, s, options.hbao_plus);
+          stereo_raw_seconds = since(raw_start);
+        }
+        std::vector<float> left_ao = stereo_raw->left, right_ao = stereo_raw->right;
+        const auto filter_start = Clock::now();
+        StereoFilterOptions filter;
+        filter.radius = s.blur_radius;
+        filter.form = m == Method::StereoHbaoPlus ? StereoFilterForm::Separable : StereoFilterForm::Full;
+        stereo_filter(left, right, left_ao, right_ao, filter);
+        // Both eyes' passes: the raw pair (computed once for both rows) and this row's filter.
+        extra_map_seconds = stereo_raw_seconds + since(filter_start);
+        out.ao = this_is_left ? std::move(left_ao) : std::move(right_ao);
+        out.holes = stereo_raw->holes;
+        out.reprojected = stereo_raw->reprojected;
+        break;
+      }
+      case Method::SdHbaoPlus: {
+        const StochasticDepth map = make_stochastic_depth(*fragments, options.stochastic);
+        out.ao = sd_hbao_plus(view, map, s, options.hbao_plus);
+        break;
+      }
+      case Method::MvSdHbaoPlus: {
+        const StochasticDepth map = make_stochastic_depth(*fragments, options.stochastic);
+        const Camera second = secondary_camera(view, options.multiview);
+        r.secondary = second;
+        const auto map_start = Clock::now();
+        const FragmentBuffer second_fragments = rasterize_fragments(scene, second, width, height);
+        extra_map_seconds = since(map_start);
+        const StochasticDepth second_map = make_stochastic_depth(second_fragments, options.stochastic);
+        out.ao = multiview_sd_hbao_plus(view, map, {DepthCamera{view_basis(second, width, height), &second_map}}, s, options.hbao_plus);
+        break;
+      }
+      case Method::RtSvaoRays: {
+        assert(hits && "compare_view: rtsvao-rays needs the segment hits");
+        const VaoResult phase1 = vao(view, s, options.vao);
+        out.ao = rt_svao_columns(view, phase1, s, options.vao, hits);
+        out.flagged = flagged_pixels(phase1).size();
+        break;
+      }
+      case Method::AbufferM4:
+      case Method::AbufferM8: {
+        ListCompression compression;
+        compression.nodes = list_nodes(m);
+        compression.keep_front_half = options.keep_front_half;
+        const FragmentBuffer compressed = compress_fragments(*fragments, view, scene, compression);
+        out.ao = abuffer_ao(view, compressed, scene, s, options.hbao);
+        out.fragments = compressed.fragments.size();
+        break;
+      }
+      case Method::AbufferOit: out.ao = abuffer_oit_ao(view, *fragments, scene, s, options.hbao); out.fragments = fragments->fragments.size(); break;
     }
-    bilateral_blur(view, s.radius, s.blur_radius, out.ao);
+    if (!is_stereo(m)) bilateral_blur(view, s.radius, s.blur_radius, out.ao);  // the stereo rows have their own filter
     for (float& v : out.ao) v = std::clamp(v, 0.0f, 1.0f);  // VAO's estimator exceeds 1 before the blur
     // The papers time a stochastic map with its geometry pass (seed 000 Table 2, seed 001
     // Table 1): every method whose maps are drawn from the A-buffer is charged its rasterisation,
     // which all of them share here. The G-buffer is not charged to anyone (seed 000 Sec. 4: the
     // conventional depth map comes with the renderer's G-buffer pass).
     out.map_seconds = needs_fragments(m) ? r.fragment_seconds : 0.0;
-    out.seconds = since(start) + out.map_seconds;
+    if (m == Method::MvSdHbaoPlus) out.map_seconds += extra_map_seconds;
+    out.seconds = is_stereo(m) ? extra_map_seconds : since(start) + (needs_fragments(m) ? r.fragment_seconds : 0.0);
     r.methods.push_back(std::move(out));
   }
   return r;

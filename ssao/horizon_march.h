@@ -68,90 +68,100 @@ struct HbaoOptions {
 
 namespace detail {
 
+/// The walk for one receiver: the point P with unit normal n, at view depth `depth`, seen at
+/// pixel p (whose centre the walk starts from and whose 4 x 4 block cell gives the jitter).
+/// horizon_march calls it with the G-buffer's receiver of every pixel; seed 004's transparent
+/// receivers (ssao/abuffer_oit.h) with the deeper fragments of a pixel and either normal.
+/// Returns AO in [0, 1].
+template <class Layers>
+[[nodiscard]] double march_receiver(const View& view, const Settings& settings, const HbaoOptions& o, const Layers& policy,
+                                    std::size_t p, const glm::dvec3& P, const glm::dvec3& n, double depth) {
+  const auto f = [&](double s) { return o.cosine ? s * s : s; };
+  const double radius_px = settings.radius * view.pixels_per_unit(depth);
+  if (radius_px < 1.0) return 1.0;  // the radius covers no neighbour: open, as HBAO+ does
+  const double step = radius_px / (o.steps + 1);
+  const glm::dvec2 centre = view.centre(p);
+  const double rotation = block_jitter(p, view.width, 0), offset = block_jitter(p, view.width, 1);
+  const bool tangent = o.angles == Angles::Tangent;
+  // The axis angles are measured from: the receiver's normal, or the view-space Z axis (toward
+  // the eye, perpendicular to the image plane).
+  const glm::dvec3 axis = tangent ? n : -view.forward;
+  const glm::dvec3 to_p = P - view.eye;
+  double occlusion = 0.0;
+  for (int d = 0; d < o.directions; ++d) {
+    const double angle = 2.0 * std::numbers::pi * (d + rotation) / o.directions;
+    const glm::dvec2 dir(std::cos(angle), std::sin(angle));
+    double sin_h = std::sin(o.bias);
+    if (!tangent) {
+      // t_p: the tangent plane's line through P in the plane of the eye, P and the screen
+      // direction (pixel y grows downward), oriented to move along d_i on screen.
+      const glm::dvec3 screen = dir.x * view.right - dir.y * view.up;
+      const glm::dvec3 across = glm::cross(to_p, screen);
+      glm::dvec3 t_p = glm::cross(across, n);
+      const glm::dvec3 along = screen - glm::dot(screen, to_p) / glm::dot(to_p, to_p) * to_p;
+      if (glm::dot(t_p, along) < 0.0) t_p = -t_p;
+      const double length = glm::length(t_p);
+      if (!(length > 0.0)) continue;  // the surface is seen edge-on along d_i: no slice
+      const double t = std::asin(std::clamp(glm::dot(t_p, axis) / length, -1.0, 1.0));
+      // Past pi / 2 no sample can rise above the horizon: nothing to gain in this direction.
+      sin_h = t + o.bias < 0.5 * std::numbers::pi ? std::sin(t + o.bias) : 1.0;
+    }
+    for (int s = 0; s < o.steps; ++s) {
+      const double t = 1.0 + (offset + s) * step;
+      const std::int64_t q = view.pixel_at(centre + t * dir);  // t: pixels from the centre
+      if (q < 0) break;
+      if (static_cast<std::size_t>(q) == p) continue;
+      const auto sample = [&](const glm::dvec3& S, double& sin_phi) {
+        const glm::dvec3 v = S - P;
+        const double length = glm::length(v);
+        sin_phi = length > 0.0 ? glm::dot(v, axis) / length : -1.0;
+        return length;
+      };
+      double best = 0.0, best_sin = sin_h;
+      const auto consider = [&](const glm::dvec3& S, double opacity) {
+        double sin_phi = 0.0;
+        const double length = sample(S, sin_phi);
+        if (!(sin_phi > sin_h) || !(length < settings.radius)) return;
+        const double gain = opacity * falloff_weight(settings, length) * (f(sin_phi) - f(sin_h));
+        if (gain > best) {
+          best = gain;
+          best_sin = sin_phi;
+        }
+      };
+      const auto qi = static_cast<std::size_t>(q);
+      const glm::dvec2 c = centre + t * dir;
+      if constexpr (Layers::kAllLayers) {
+        policy.layers(view, qi, c, consider);
+      } else {
+        if (!view.valid[qi]) continue;
+        double sin_phi = 0.0;
+        const double length =
+            sample(view.point_on_plane(c, glm::dvec3(view.position[qi]), glm::dvec3(view.normal[qi])), sin_phi);
+        if (sin_phi < sin_h) continue;  // Alg. 2 line 15
+        if (length < settings.radius) {
+          best = falloff_weight(settings, length) * (f(sin_phi) - f(sin_h));
+          best_sin = sin_phi;
+        } else {
+          policy.layers(view, qi, c, consider);
+        }
+      }
+      if (best > 0.0) {
+        occlusion += best;
+        sin_h = best_sin;
+      }
+    }
+  }
+  return std::clamp(1.0 - occlusion / o.directions, 0.0, 1.0);
+}
+
 template <class Layers>
 [[nodiscard]] std::vector<float> horizon_march(const View& view, const Settings& settings, const HbaoOptions& o,
                                                const Layers& policy) {
   std::vector<float> ao(view.pixel_count(), 1.0f);
-  const auto f = [&](double s) { return o.cosine ? s * s : s; };
   tbb::parallel_for(std::size_t{0}, view.pixel_count(), [&](std::size_t p) {
     if (!view.valid[p]) return;
-    const glm::dvec3 P(view.position[p]);
-    const glm::dvec3 n(view.normal[p]);
-    const double radius_px = settings.radius * view.pixels_per_unit(view.depth[p]);
-    if (radius_px < 1.0) return;  // the radius covers no neighbour: open, as HBAO+ does
-    const double step = radius_px / (o.steps + 1);
-    const glm::dvec2 centre = view.centre(p);
-    const double rotation = block_jitter(p, view.width, 0), offset = block_jitter(p, view.width, 1);
-    const bool tangent = o.angles == Angles::Tangent;
-    // The axis angles are measured from: the receiver's normal, or the view-space Z axis (toward
-    // the eye, perpendicular to the image plane).
-    const glm::dvec3 axis = tangent ? n : -view.forward;
-    const glm::dvec3 to_p = P - view.eye;
-    double occlusion = 0.0;
-    for (int d = 0; d < o.directions; ++d) {
-      const double angle = 2.0 * std::numbers::pi * (d + rotation) / o.directions;
-      const glm::dvec2 dir(std::cos(angle), std::sin(angle));
-      double sin_h = std::sin(o.bias);
-      if (!tangent) {
-        // t_p: the tangent plane's line through P in the plane of the eye, P and the screen
-        // direction (pixel y grows downward), oriented to move along d_i on screen.
-        const glm::dvec3 screen = dir.x * view.right - dir.y * view.up;
-        const glm::dvec3 across = glm::cross(to_p, screen);
-        glm::dvec3 t_p = glm::cross(across, n);
-        const glm::dvec3 along = screen - glm::dot(screen, to_p) / glm::dot(to_p, to_p) * to_p;
-        if (glm::dot(t_p, along) < 0.0) t_p = -t_p;
-        const double length = glm::length(t_p);
-        if (!(length > 0.0)) continue;  // the surface is seen edge-on along d_i: no slice
-        const double t = std::asin(std::clamp(glm::dot(t_p, axis) / length, -1.0, 1.0));
-        // Past pi / 2 no sample can rise above the horizon: nothing to gain in this direction.
-        sin_h = t + o.bias < 0.5 * std::numbers::pi ? std::sin(t + o.bias) : 1.0;
-      }
-      for (int s = 0; s < o.steps; ++s) {
-        const double t = 1.0 + (offset + s) * step;
-        const std::int64_t q = view.pixel_at(centre + t * dir);  // t: pixels from the centre
-        if (q < 0) break;
-        if (static_cast<std::size_t>(q) == p) continue;
-        const auto sample = [&](const glm::dvec3& S, double& sin_phi) {
-          const glm::dvec3 v = S - P;
-          const double length = glm::length(v);
-          sin_phi = length > 0.0 ? glm::dot(v, axis) / length : -1.0;
-          return length;
-        };
-        double best = 0.0, best_sin = sin_h;
-        const auto consider = [&](const glm::dvec3& S, double opacity) {
-          double sin_phi = 0.0;
-          const double length = sample(S, sin_phi);
-          if (!(sin_phi > sin_h) || !(length < settings.radius)) return;
-          const double gain = opacity * falloff_weight(settings, length) * (f(sin_phi) - f(sin_h));
-          if (gain > best) {
-            best = gain;
-            best_sin = sin_phi;
-          }
-        };
-        const auto qi = static_cast<std::size_t>(q);
-        const glm::dvec2 c = centre + t * dir;
-        if constexpr (Layers::kAllLayers) {
-          policy.layers(view, qi, c, consider);
-        } else {
-          if (!view.valid[qi]) continue;
-          double sin_phi = 0.0;
-          const double length =
-              sample(view.point_on_plane(c, glm::dvec3(view.position[qi]), glm::dvec3(view.normal[qi])), sin_phi);
-          if (sin_phi < sin_h) continue;  // Alg. 2 line 15
-          if (length < settings.radius) {
-            best = falloff_weight(settings, length) * (f(sin_phi) - f(sin_h));
-            best_sin = sin_phi;
-          } else {
-            policy.layers(view, qi, c, consider);
-          }
-        }
-        if (best > 0.0) {
-          occlusion += best;
-          sin_h = best_sin;
-        }
-      }
-    }
-    ao[p] = static_cast<float>(std::clamp(1.0 - occlusion / o.directions, 0.0, 1.0));
+    ao[p] = static_cast<float>(march_receiver(view, settings, o, policy, p, glm::dvec3(view.position[p]),
+                                              glm::dvec3(view.normal[p]), static_cast<double>(view.depth[p])));
   });
   return ao;
 }

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "core/ao_error.h"
+
 namespace exao::ssao {
 
 std::pair<Camera, Camera> stereo_cameras(const Camera& camera, double ipd) {
@@ -54,21 +56,16 @@ Inconsistency inconsistency(const Correspondence& c, std::span<const float> left
   Inconsistency r;
   r.pixels = c.left.size();
   r.share = c.left_visible ? static_cast<double>(r.pixels) / static_cast<double>(c.left_visible) : 0.0;
-  if (r.pixels == 0) return r;
-  double sum = 0.0, sum_sq = 0.0;
-  std::size_t in255 = 0;
+  // E(p) as the one AO-error metric (core/ao_error.h): its mean |d|, RMSE and 1/255 share.
+  AoError e;
   for (std::size_t k = 0; k < c.left.size(); ++k) {
     double interpolated = 0.0;
     for (std::size_t j = 0; j < 4; ++j) interpolated += static_cast<double>(c.weight[k][j]) * right_ao[c.right[k][j]];
-    const double e = std::abs(static_cast<double>(left_ao[c.left[k]]) - interpolated);
-    sum += e;
-    sum_sq += e * e;
-    in255 += e <= 1.0 / 255.0 + 1e-7;
+    e.add(left_ao[c.left[k]], interpolated);
   }
-  const double n = static_cast<double>(r.pixels);
-  r.mean = sum / n;
-  r.rmse = std::sqrt(sum_sq / n);
-  r.within_255 = static_cast<double>(in255) / n;
+  r.mean = e.mean_abs();
+  r.rmse = e.rmse();
+  r.within_255 = e.within_255_share();
   return r;
 }
 

@@ -7,7 +7,7 @@
 
 namespace exao::ssao {
 
-View make_view(const Scene& scene, const Camera& camera, int width, int height) {
+View view_basis(const Camera& camera, int width, int height) {
   View v;
   v.camera = camera;
   v.width = width;
@@ -18,6 +18,11 @@ View make_view(const Scene& scene, const Camera& camera, int width, int height) 
   v.right = glm::dvec3(glm::cross(camera.forward, camera.up));
   v.tan_half = std::tan(0.5 * static_cast<double>(camera.yfov));
   v.aspect = static_cast<double>(width) / static_cast<double>(height);
+  return v;
+}
+
+View make_view(const Scene& scene, const Camera& camera, int width, int height) {
+  View v = view_basis(camera, width, height);
   const raster::GBuffer g = raster::rasterize_gbuffer(scene, camera, width, height);
   v.receivers = raster::gbuffer_receivers(scene, camera, g);
   const std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);

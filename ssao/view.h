@@ -84,6 +84,10 @@ struct View {
   [[nodiscard]] double pixels_per_unit(double w) const { return 0.5 * height / (tan_half * w); }
 };
 
+/// A View of `camera` with its projection only (the basis, tan_half, aspect, size) and no
+/// pixels: for a camera whose depths come from elsewhere (seed 000's secondary view).
+[[nodiscard]] View view_basis(const Camera& camera, int width, int height);
+
 /// The G-buffer of a width x height image of `camera` (raster::rasterize_gbuffer and
 /// gbuffer_receivers), as a View.
 [[nodiscard]] View make_view(const Scene& scene, const Camera& camera, int width, int height);

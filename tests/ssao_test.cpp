@@ -15,10 +15,17 @@
 #include "bvh/bvh.h"
 #include "bvh/occlusion.h"
 #include "core/builtin_scenes.h"
+#include "core/embree_reference.h"
 #include "io/load_scene.h"
 #include "core/world_key.h"
 #include "lut/mask_engine.h"
 #include "ssao/abuffer_ao.h"
+#include "ssao/abuffer_oit.h"
+#include "ssao/grazing_box.h"
+#include "ssao/list_compression.h"
+#include "ssao/sd_hbao_plus.h"
+#include "ssao/stereo_filter.h"
+#include "ssao/stereo_hbao_plus.h"
 #include "ssao/compare.h"
 #include "ssao/fragment_buffer.h"
 #include "ssao/hbao.h"
@@ -40,11 +47,20 @@ struct Exact {
   lut::TriangleSet triangles;
   std::optional<bvh::Bvh> tree;
   std::optional<lut::MaskEngine> engine;
+  // RT-SVAO's column rays, as `exao compare` casts them: Embree's nearest hits.
+  std::shared_ptr<EmbreeScene> embree;
+  SegmentHits hits;
 
   Exact(Scene s, float radius, int samples) : scene(std::move(s)), triangles(lut::TriangleSet::build(scene)) {
     rays = *make_shadow_rays(*make_sample_pattern(samples, Falloff::Constant), radius, 1e-4f * scene.bounds().diagonal());
     tree.emplace(std::move(*bvh::Bvh::build(triangles)));
     engine.emplace(std::move(*lut::MaskEngine::build(rays, lut::MaskMode::Exact)));
+    embree = std::make_shared<EmbreeScene>(std::move(*EmbreeScene::build(scene)));
+    hits = segment_hits_by_closest([e = embree](const glm::dvec3& origin, const glm::dvec3& direction) -> std::optional<double> {
+      const auto hit = e->closest_hit(glm::vec3(origin), glm::vec3(direction));
+      if (!hit) return std::nullopt;
+      return static_cast<double>(hit->distance);
+    });
   }
   [[nodiscard]] std::vector<float> operator()(std::span<const Receiver> receivers) const {
     const MaskSet masks = bvh::occlusion(*tree, *engine, receivers);
@@ -83,14 +99,17 @@ Scene floor_only() {
 
 TEST(Ssao, OpenFloorIsOpenForEveryMethod) {
   const Exact exact(floor_only(), 1.0f, 128);
-  const ViewResult r = compare_view(exact.scene, exact.scene.cameras[0], 96, 72, options_for(1.0f), std::cref(exact));
+  const ViewResult r = compare_view(exact.scene, exact.scene.cameras[0], 96, 72, options_for(1.0f), std::cref(exact), exact.hits);
   std::size_t seen = 0;
   for (std::size_t p = 0; p < r.view.pixel_count(); ++p) {
     if (!r.view.valid[p]) continue;
     ++seen;
     EXPECT_FLOAT_EQ(r.exact[p], 1.0f);
     // A plane below the bias holds no horizon and no HBAO+ sample above it.
-    for (const Method m : {Method::Hbao, Method::HbaoPlus, Method::SdHbao, Method::Abuffer}) EXPECT_EQ(result(r, m).ao[p], 1.0f) << method_name(m);
+    for (const Method m : {Method::Hbao, Method::HbaoPlus, Method::SdHbao, Method::Abuffer, Method::StereoHbaoPlus, Method::StereoHbaoPlus2d,
+                           Method::SdHbaoPlus, Method::MvSdHbaoPlus, Method::AbufferM4, Method::AbufferM8, Method::AbufferOit}) {
+      EXPECT_EQ(result(r, m).ao[p], 1.0f) << method_name(m);
+    }
     for (const MethodResult& m : r.methods) {
       EXPECT_GE(m.ao[p], 0.0f);
       EXPECT_LE(m.ao[p], 1.0f);
@@ -99,7 +118,7 @@ TEST(Ssao, OpenFloorIsOpenForEveryMethod) {
   ASSERT_GT(seen, 1000u);
   // VAO's eight line samples estimate the half ball's volume: unbiased, not exact, on a tilted
   // plane (VaoIsUnbiasedOnOpenPlanes measures how close).
-  for (const Method m : {Method::Vao, Method::SdSvao}) {
+  for (const Method m : {Method::Vao, Method::SdSvao, Method::RtSvaoRays}) {
     std::vector<std::uint32_t> all;
     for (std::size_t p = 0; p < r.view.pixel_count(); ++p) {
       if (r.view.valid[p]) all.push_back(static_cast<std::uint32_t>(p));
@@ -165,7 +184,7 @@ TEST(Ssao, VaoIsUnbiasedOnTheRoomsCeiling) {
   const Exact exact(make_room(), 0.67f, 128);
   CompareOptions options = options_for(0.67f);
   options.methods = {Method::Vao};
-  const ViewResult r = compare_view(exact.scene, exact.scene.cameras[0], 320, 240, options, std::cref(exact));
+  const ViewResult r = compare_view(exact.scene, exact.scene.cameras[0], 320, 240, options, std::cref(exact), exact.hits);
   // Ceiling points more than r from the walls (x = +-5, z = +-4) and from the column that
   // reaches the ceiling (x in [3.2, 3.8], z in [-3.6, -3.0]): nothing within r but the ceiling.
   const float radius = 0.67f;
@@ -268,11 +287,16 @@ TEST(Ssao, HbaoFollowsAlgorithm2sGain) {
 TEST(Ssao, TimesIncludeTheMapsGeometryPass) {
   const Exact exact(make_room(), 0.67f, 32);
   CompareOptions options = options_for(0.67f);
-  const ViewResult r = compare_view(exact.scene, exact.scene.cameras[0], 64, 48, options, std::cref(exact));
+  const ViewResult r = compare_view(exact.scene, exact.scene.cameras[0], 64, 48, options, std::cref(exact), exact.hits);
   ASSERT_GT(r.fragment_seconds, 0.0);
   for (const MethodResult& m : r.methods) {
-    const bool map = m.method == Method::SdHbao || m.method == Method::SdSvao || m.method == Method::Abuffer;
-    EXPECT_EQ(m.map_seconds, map ? r.fragment_seconds : 0.0) << method_name(m.method);
+    const bool map = m.method == Method::SdHbao || m.method == Method::SdSvao || m.method == Method::Abuffer || m.method == Method::SdHbaoPlus ||
+                     list_nodes(m.method) > 0 || m.method == Method::AbufferOit;
+    if (m.method == Method::MvSdHbaoPlus) {
+      EXPECT_GT(m.map_seconds, r.fragment_seconds);  // and the secondary view's A-buffer
+    } else {
+      EXPECT_EQ(m.map_seconds, map ? r.fragment_seconds : 0.0) << method_name(m.method);
+    }
     EXPECT_GE(m.seconds, m.map_seconds) << method_name(m.method);
   }
 }
@@ -306,7 +330,7 @@ TEST(Ssao, FootOfAWallIsHalfOccludedAndFarFloorIsOpen) {
   scene.add_triangle({-6.0f, 0.0f, -1.0f}, {6.0f, 4.0f, -1.0f}, {-6.0f, 4.0f, -1.0f}, false, 0);
   const float radius = 1.0f;
   const Exact exact(std::move(scene), radius, 256);
-  const ViewResult r = compare_view(exact.scene, exact.scene.cameras[0], 160, 120, options_for(radius), std::cref(exact));
+  const ViewResult r = compare_view(exact.scene, exact.scene.cameras[0], 160, 120, options_for(radius), std::cref(exact), exact.hits);
   std::vector<std::uint32_t> foot, far;
   for (std::size_t p = 0; p < r.view.pixel_count(); ++p) {
     if (!r.view.valid[p] || std::abs(r.view.normal[p].y) < 0.99f) continue;  // floor pixels
@@ -322,7 +346,7 @@ TEST(Ssao, FootOfAWallIsHalfOccludedAndFarFloorIsOpen) {
     // Sees the wall, but no method can block more than the wall's half of the hemisphere by much.
     EXPECT_LT(mean_over(m.ao, foot), 0.8) << method_name(m.method);
     EXPECT_GT(mean_over(m.ao, foot), 0.3) << method_name(m.method);
-    if (m.method != Method::Vao && m.method != Method::SdSvao && m.method != Method::RtSvao) {
+    if (m.method != Method::Vao && m.method != Method::SdSvao && m.method != Method::RtSvao && m.method != Method::RtSvaoRays) {
       for (const std::uint32_t p : far) ASSERT_EQ(m.ao[p], 1.0f) << method_name(m.method) << " pixel " << p;
     }
   }
@@ -352,8 +376,8 @@ Gain box_gain(bool wall, const CompareOptions& options, const std::function<void
   if (edit) edit(with);
   const Exact exact_with(std::move(with), 1.0f, samples), exact_without(std::move(without), 1.0f, samples);
   const Camera camera = exact_with.scene.cameras[0];
-  const ViewResult a = compare_view(exact_with.scene, camera, 240, 180, options, std::cref(exact_with));
-  const ViewResult b = compare_view(exact_without.scene, camera, 240, 180, options, std::cref(exact_without));
+  const ViewResult a = compare_view(exact_with.scene, camera, 240, 180, options, std::cref(exact_with), exact_with.hits);
+  const ViewResult b = compare_view(exact_without.scene, camera, 240, 180, options, std::cref(exact_without), exact_without.hits);
   const std::vector<std::uint32_t> pixels = beside_box(a.view);
   EXPECT_GT(pixels.size(), 50u);
   EXPECT_EQ(pixels, beside_box(b.view)) << "the box must not change which floor pixels are seen";
@@ -510,7 +534,7 @@ TEST(Ssao, RtSvaoTakesExactAoAtFlaggedPixels) {
   const Exact exact(make_room(), 0.6f, 128);
   CompareOptions options = options_for(0.6f);
   options.methods = {Method::Vao, Method::RtSvao};
-  const ViewResult r = compare_view(exact.scene, exact.scene.cameras[0], 96, 72, options, std::cref(exact));
+  const ViewResult r = compare_view(exact.scene, exact.scene.cameras[0], 96, 72, options, std::cref(exact), exact.hits);
   const MethodResult& rt = result(r, Method::RtSvao);
   ASSERT_GT(rt.flagged, 50u);
   // With the blur off, every pixel is phase 1's VAO or, where flagged, exact AO.
@@ -548,8 +572,8 @@ TEST(Ssao, WorldKeysMakeExactAoStereoConsistent) {
   const auto [left, right] = stereo_cameras(exact.scene.cameras[0], 0.065);
   const auto measure = [&](std::optional<float> cell) {
     options.world_key_cell = cell;
-    const ViewResult l = compare_view(exact.scene, left, 240, 180, options, std::cref(exact));
-    const ViewResult r = compare_view(exact.scene, right, 240, 180, options, std::cref(exact));
+    const ViewResult l = compare_view(exact.scene, left, 240, 180, options, std::cref(exact), exact.hits);
+    const ViewResult r = compare_view(exact.scene, right, 240, 180, options, std::cref(exact), exact.hits);
     return inconsistency(correspond(l.view, r.view), l.exact, r.exact);
   };
   const Inconsistency pixel_keys = measure(std::nullopt);
@@ -613,6 +637,10 @@ TEST(Ssao, BadOptionsAreRefusedWithTheirName) {
   EXPECT_FALSE(parse_methods("hbao,hbao"));
   EXPECT_FALSE(parse_methods(""));
   EXPECT_EQ(parse_methods("hbao+,abuffer")->size(), 2u);
+  EXPECT_EQ(*parse_methods("all"), all_methods());
+  EXPECT_EQ(all_methods().size(), 15u);
+  EXPECT_FALSE(parse_methods("all,hbao"));
+  for (const Method m : all_methods()) EXPECT_EQ(parse_methods(method_name(m))->front(), m);
   CompareOptions o = options_for(1.0f);
   o.hbao.directions = 0;
   EXPECT_NE(check(o).error().message.find("directions"), std::string::npos);
@@ -622,6 +650,264 @@ TEST(Ssao, BadOptionsAreRefusedWithTheirName) {
   o = options_for(1.0f);
   o.settings.blur_radius = -1;
   EXPECT_NE(check(o).error().message.find("blur"), std::string::npos);
+  o = options_for(1.0f);
+  o.multiview.angle_degrees = 0.0;
+  EXPECT_NE(check(o).error().message.find("secondary view angle"), std::string::npos);
+  o = options_for(1.0f);
+  o.stereo_ipd = 0.0;
+  EXPECT_NE(check(o).error().message.find("stereo eye distance"), std::string::npos);
+  EXPECT_FALSE(check(ListCompression{0, true}));
+}
+
+
+// ---- Seed 003: stereo-aware HBAO+ (Sec. 3) ----
+
+// Sec. 3.2: a right pixel that passes the back-check takes the left value exactly; the others are
+// evaluated from scratch. Sec. 3.1-3.3 as a whole: stereo HBAO+ is more consistent between the
+// eyes than mono HBAO+ run on each eye (their Fig. 10 A against F), in both filter forms.
+TEST(Ssao, StereoHbaoPlusIsMoreConsistentThanMonoHbaoPlus) {
+  const Exact exact(make_room(), 0.6f, 32);
+  CompareOptions options = options_for(0.6f);
+  options.settings.blur_radius = 4;
+  options.methods = {Method::HbaoPlus, Method::StereoHbaoPlus, Method::StereoHbaoPlus2d};
+  const auto eyes = stereo_cameras(exact.scene.cameras[0], 0.065);
+  options.stereo_eyes = eyes;
+  const ViewResult l = compare_view(exact.scene, eyes.first, 160, 120, options, std::cref(exact), exact.hits);
+  const ViewResult r = compare_view(exact.scene, eyes.second, 160, 120, options, std::cref(exact), exact.hits);
+  const StereoObscurance raw = stereo_hbao_plus(l.view, r.view, options.settings, options.hbao_plus);
+  ASSERT_GT(raw.reprojected, 10000u);
+  ASSERT_GT(raw.holes, 0u);
+  for (std::size_t q = 0; q < r.view.pixel_count(); ++q) {
+    if (!r.view.valid[q] || !raw.right_both[q]) continue;
+    const std::int64_t p = nearest_pixel(l.view, glm::dvec3(r.view.position[q]));
+    ASSERT_EQ(raw.right[q], raw.left[static_cast<std::size_t>(p)]) << q;
+  }
+  const Correspondence c = correspond(l.view, r.view);
+  const auto e = [&](Method m) { return inconsistency(c, result(l, m).ao, result(r, m).ao).mean; };
+  std::printf("stereo E: HBAO+ %.5f, S-HBAO+ %.5f, S-HBAO+ 2D %.5f\n", e(Method::HbaoPlus), e(Method::StereoHbaoPlus), e(Method::StereoHbaoPlus2d));
+  EXPECT_LT(e(Method::StereoHbaoPlus), e(Method::HbaoPlus));
+  EXPECT_LT(e(Method::StereoHbaoPlus2d), e(Method::HbaoPlus));
+}
+
+// With both eyes at one point every sample is Case A with two equal contributions: the stereo
+// estimate is mono HBAO+ (up to a sample whose projection rounds to the other side of a pixel edge).
+TEST(Ssao, StereoEstimateWithOneEyeTwiceIsMonoHbaoPlus) {
+  const Scene scene = make_room();
+  const View view = make_view(scene, scene.cameras[0], 120, 90);
+  Settings settings;
+  settings.radius = 0.6;
+  const HbaoPlusOptions o;
+  const std::vector<float> mono = hbao_plus(view, settings, o);
+  const StereoObscurance stereo = stereo_hbao_plus(view, view, settings, o);
+  std::size_t seen = 0, same = 0;
+  for (std::size_t p = 0; p < view.pixel_count(); ++p) {
+    if (!view.valid[p]) continue;
+    ++seen;
+    same += std::abs(stereo.left[p] - mono[p]) < 1e-5f;
+    EXPECT_EQ(stereo.right[p], stereo.left[p]);  // every pixel passes the back-check onto itself
+  }
+  EXPECT_EQ(stereo.holes, 0u);
+  EXPECT_GT(static_cast<double>(same), 0.99 * static_cast<double>(seen));
+}
+
+// Fig. 6 D: w = smoothstep(0.5 - eta, 0.5, alpha); and a constant field stays constant.
+TEST(Ssao, StereoFilterFollowsFigure6) {
+  EXPECT_EQ(stereo_filter_weight(0.5, 0.05), 1.0);
+  EXPECT_EQ(stereo_filter_weight(0.9, 0.05), 1.0);
+  EXPECT_EQ(stereo_filter_weight(0.45, 0.05), 0.0);
+  EXPECT_EQ(stereo_filter_weight(0.1, 0.05), 0.0);
+  EXPECT_NEAR(stereo_filter_weight(0.475, 0.05), 0.5, 1e-12);
+  for (double a = 0.45; a < 0.5; a += 0.005) EXPECT_LE(stereo_filter_weight(a, 0.05), stereo_filter_weight(a + 0.005, 0.05));
+  const Scene scene = make_room();
+  const auto [left_camera, right_camera] = stereo_cameras(scene.cameras[0], 0.065);
+  const View left = make_view(scene, left_camera, 80, 60), right = make_view(scene, right_camera, 80, 60);
+  for (const StereoFilterForm form : {StereoFilterForm::Full, StereoFilterForm::Separable}) {
+    std::vector<float> a(left.pixel_count(), 0.25f), b(right.pixel_count(), 0.25f);
+    stereo_filter(left, right, a, b, StereoFilterOptions{4, 0.05, form});
+    for (std::size_t p = 0; p < a.size(); ++p) {
+      ASSERT_NEAR(a[p], 0.25f, 1e-6f);
+      ASSERT_NEAR(b[p], 0.25f, 1e-6f);
+    }
+  }
+}
+
+// ---- Seed 000: SD-HBAO+ and its multi-view form (Sec. 3.2, 3.4, Alg. 3) ----
+
+// A map with alpha = 1 holds the first layer in every sample: SD-HBAO+ is then HBAO+.
+TEST(Ssao, SdHbaoPlusWithEveryFirstLayerIsHbaoPlus) {
+  const Scene scene = make_room();
+  const View view = make_view(scene, scene.cameras[0], 120, 90);
+  const FragmentBuffer fragments = rasterize_fragments(scene, scene.cameras[0], 120, 90);
+  const StochasticDepth first = make_stochastic_depth(fragments, StochasticDepthOptions{2, 1.0, 0});
+  Settings settings;
+  settings.radius = 0.6;
+  const HbaoPlusOptions o;
+  const std::vector<float> mono = hbao_plus(view, settings, o), sd = sd_hbao_plus(view, first, settings, o);
+  for (std::size_t p = 0; p < view.pixel_count(); ++p) ASSERT_NEAR(sd[p], mono[p], 1e-4f) << p;
+}
+
+// Seed 000's Fig. 3: the box's +X side is edge-on to the main camera and leaves no fragment,
+// so no single-view method sees it; the secondary view does (Alg. 3). Occlusion the box adds to
+// the floor beside that side (mean AO without the box minus with it); Alg. 3's max over the
+// cameras only ever adds occlusion.
+TEST(Ssao, MultiViewSeesTheSideSeenEdgeOn) {
+  const Exact with(make_grazing_box(true), 1.0f, 128), without(make_grazing_box(false), 1.0f, 128);
+  CompareOptions options = options_for(1.0f);
+  options.methods = {Method::HbaoPlus, Method::SdHbaoPlus, Method::MvSdHbaoPlus, Method::Abuffer};
+  const Camera camera = with.scene.cameras[0];
+  const ViewResult a = compare_view(with.scene, camera, 240, 180, options, std::cref(with), with.hits);
+  const ViewResult b = compare_view(without.scene, camera, 240, 180, options, std::cref(without), without.hits);
+  // No fragment of the side (triangles 6 and 7: floor, +Z, -Z come first).
+  const FragmentBuffer fragments = rasterize_fragments(with.scene, camera, 240, 180);
+  for (const Fragment& f : fragments.fragments) ASSERT_TRUE(f.triangle != 6 && f.triangle != 7);
+  std::vector<std::uint32_t> beside;
+  for (std::size_t p = 0; p < a.view.pixel_count(); ++p) {
+    const glm::vec3 x = a.view.position[p];
+    if (a.view.valid[p] && a.view.normal[p].y > 0.99f && x.y < 1e-3f && x.x > 1.02f && x.x < 1.4f && x.z > -2.6f && x.z < -0.6f) {
+      beside.push_back(static_cast<std::uint32_t>(p));
+    }
+  }
+  ASSERT_GT(beside.size(), 100u);
+  const double exact_gain = mean_over(b.exact, beside) - mean_over(a.exact, beside);
+  const auto gain = [&](Method m) { return (mean_over(result(b, m).ao, beside) - mean_over(result(a, m).ao, beside)) / exact_gain; };
+  std::printf("grazing side (%zu floor pixels): exact gain %.4f; share seen: HBAO+ %.3f, SD-HBAO+ %.3f, A-buffer %.3f, MV-SD-HBAO+ %.3f\n",
+              beside.size(), exact_gain, gain(Method::HbaoPlus), gain(Method::SdHbaoPlus), gain(Method::Abuffer), gain(Method::MvSdHbaoPlus));
+  ASSERT_GT(exact_gain, 0.1);
+  EXPECT_LT(gain(Method::HbaoPlus), 0.1);
+  EXPECT_LT(gain(Method::SdHbaoPlus), 0.1);
+  EXPECT_GT(gain(Method::MvSdHbaoPlus), 3.0 * std::max(gain(Method::SdHbaoPlus), 0.05));
+  for (std::size_t p = 0; p < a.view.pixel_count(); ++p) ASSERT_LE(result(a, Method::MvSdHbaoPlus).ao[p], result(a, Method::SdHbaoPlus).ao[p]) << p;
+}
+
+// ---- Seed 004: list compression (Sec. III-B) and transparent receivers (Eq. 2-4) ----
+
+TEST(Ssao, ListCompressionKeepsShortListsAndFollowsEquation5) {
+  const Scene room = make_room();
+  const View view = make_view(room, room.cameras[0], 96, 72);
+  const FragmentBuffer fragments = rasterize_fragments(room, room.cameras[0], 96, 72);
+  std::size_t longest = 0;
+  for (std::size_t p = 0; p < view.pixel_count(); ++p) longest = std::max(longest, fragments.at(p).size());
+  ASSERT_GT(longest, 2u);
+  // m at least every list's length: nothing changes, and neither does the AO.
+  const FragmentBuffer same = compress_fragments(fragments, view, room, ListCompression{static_cast<int>(longest), true});
+  ASSERT_EQ(same.offset, fragments.offset);
+  Settings settings;
+  settings.radius = 0.6;
+  EXPECT_EQ(abuffer_ao(view, same, room, settings, HbaoOptions{}), abuffer_ao(view, fragments, room, settings, HbaoOptions{}));
+  // Ten parallel squares, opacities alternating 1, 0.2, 1, 0.2, ...: with the front half kept
+  // (m = 4: two), Eq. 5 drops the least alpha (1 - z) of the back, the transparent far ones.
+  Scene stack;
+  for (int k = 0; k < 10; ++k) {
+    const float z = -2.0f - 0.5f * static_cast<float>(k);
+    stack.add_triangle({-50.0f, -50.0f, z}, {50.0f, -50.0f, z}, {50.0f, 50.0f, z}, false, k % 2);
+    stack.add_triangle({-50.0f, -50.0f, z}, {50.0f, 50.0f, z}, {-50.0f, 50.0f, z}, false, k % 2);
+  }
+  stack.material_opacity = {1.0f, 0.2f};
+  const Camera camera = look_at({0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, -1.0f}, 40.0f);
+  const View stack_view = make_view(stack, camera, 16, 16);
+  const FragmentBuffer layers = rasterize_fragments(stack, camera, 16, 16);
+  const FragmentBuffer four = compress_fragments(layers, stack_view, stack, ListCompression{4, true});
+  const FragmentBuffer whole = compress_fragments(layers, stack_view, stack, ListCompression{4, false});
+  for (std::size_t p = 0; p < 16 * 16; ++p) {
+    ASSERT_EQ(layers.at(p).size(), 10u);
+    ASSERT_EQ(four.at(p).size(), 4u);
+    // Front half: layers 0 and 1; then the opaque ones nearest first among the rest (2, 4).
+    const float depth[4] = {layers.at(p)[0].depth, layers.at(p)[1].depth, layers.at(p)[2].depth, layers.at(p)[4].depth};
+    for (std::size_t k = 0; k < 4; ++k) ASSERT_EQ(four.at(p)[k].depth, depth[k]) << p << " " << k;
+    // Over the whole list the transparent layer 1 goes too: the four nearest opaque layers.
+    for (std::size_t k = 0; k < 4; ++k) ASSERT_EQ(whole.at(p)[k].depth, layers.at(p)[2 * k].depth) << p << " " << k;
+  }
+}
+
+// On opaque geometry the transparent-receiver form is the opaque A-buffer (the first fragment is
+// the G-buffer's receiver). A pane of opacity alpha over the floor: alpha = 0 is the floor alone,
+// alpha = 1 the pane alone, and in between (Eq. 2-4 with the blend) strictly between the two.
+TEST(Ssao, TransparentReceiversBlendByOpacity) {
+  const Scene room = make_room();
+  const View view = make_view(room, room.cameras[0], 96, 72);
+  const FragmentBuffer fragments = rasterize_fragments(room, room.cameras[0], 96, 72);
+  Settings settings;
+  settings.radius = 0.6;
+  const std::vector<float> opaque = abuffer_ao(view, fragments, room, settings, HbaoOptions{});
+  const std::vector<float> oit = abuffer_oit_ao(view, fragments, room, settings, HbaoOptions{});
+  std::size_t same = 0, seen = 0;
+  for (std::size_t p = 0; p < view.pixel_count(); ++p) {
+    if (!view.valid[p]) continue;
+    ++seen;
+    same += opaque[p] == oit[p];
+  }
+  EXPECT_GT(static_cast<double>(same), 0.995 * static_cast<double>(seen));  // float ties between triangles aside
+
+  // The hidden box's floor and box, and a pane (material 1) facing the camera at z = 3, more
+  // than r from everything: the pane is open on both sides and occludes nothing, so Eq. 2-4's
+  // blend alone is left: alpha * 1 + (1 - alpha) * AO of what is behind it.
+  const auto with_pane = [](float alpha) {
+    Scene s = make_hidden_box(true, false);
+    s.add_triangle({-1.5f, 0.8f, 3.0f}, {1.5f, 0.8f, 3.0f}, {1.5f, 2.5f, 3.0f}, false, 1);
+    s.add_triangle({-1.5f, 0.8f, 3.0f}, {1.5f, 2.5f, 3.0f}, {-1.5f, 2.5f, 3.0f}, false, 1);
+    s.material_opacity = {1.0f, alpha};
+    return s;
+  };
+  const Scene none = make_hidden_box(true, false);
+  const Camera camera = none.cameras[0];
+  const auto ao = [&](const Scene& s) {
+    const View v = make_view(s, camera, 120, 90);
+    return abuffer_oit_ao(v, rasterize_fragments(s, camera, 120, 90), s, settings, HbaoOptions{});
+  };
+  const Scene half = with_pane(0.5f);
+  const View v_half = make_view(half, camera, 120, 90), v_none = make_view(none, camera, 120, 90);
+  const std::vector<float> a0 = ao(with_pane(0.0f)), a5 = ao(half), a1 = ao(with_pane(1.0f)), behind = ao(none);
+  std::size_t compared = 0, dark = 0;
+  for (std::size_t p = 0; p < v_half.pixel_count(); ++p) {
+    if (!v_none.valid[p] || v_half.triangle[p] < none.triangle_count()) continue;  // pixels the pane covers
+    ++compared;
+    ASSERT_NEAR(a0[p], behind[p], 1e-4f) << p;  // opacity 0: not there
+    ASSERT_EQ(a1[p], 1.0f) << p;                 // opaque: the open pane alone
+    ASSERT_NEAR(a5[p], 0.5f * 1.0f + 0.5f * a0[p], 1e-5f) << p;
+    dark += a0[p] < 0.9f;
+  }
+  ASSERT_GT(compared, 500u);
+  EXPECT_GT(dark, 20u);  // the pane covers some occluded floor (the box's contact shadow)
+}
+
+// ---- Seed 001: RT-SVAO with column rays (Sec. 3.8) ----
+
+// Rays only revisit flagged samples and can only lower a sample's unoccupied length (a_i is a
+// minimum over the depth buffer's value and the rays'): unflagged pixels are VAO's bit for bit,
+// flagged ones at most VAO's. Behind the hidden box's wall VAO sees nothing of the box, while the
+// flagged columns reach it; with every pixel flagged, exao's first form is exact AO.
+TEST(Ssao, RtSvaoRaysRevisitOnlyFlaggedSamplesAndSeeTheHiddenBox) {
+  const Exact exact(make_room(), 0.6f, 32);
+  const View view = make_view(exact.scene, exact.scene.cameras[0], 96, 72);
+  Settings settings;
+  settings.radius = 0.6;
+  const VaoResult phase1 = vao(view, settings, VaoOptions{});
+  const std::vector<float> rays = rt_svao_columns(view, phase1, settings, VaoOptions{}, exact.hits);
+  std::size_t flagged = 0, darker = 0;
+  for (std::size_t p = 0; p < view.pixel_count(); ++p) {
+    if (!phase1.flags[p]) {
+      ASSERT_EQ(rays[p], phase1.ao[p]) << p;
+      continue;
+    }
+    ++flagged;
+    ASSERT_LE(rays[p], phase1.ao[p] + 1e-6f) << p;
+    darker += rays[p] < phase1.ao[p] - 1e-4f;
+  }
+  ASSERT_GT(flagged, 50u);
+  EXPECT_GT(darker, 0u);
+  VaoResult all = phase1;
+  std::vector<float> exact_all = exact(view.receivers.receivers);
+  for (const std::uint32_t p : view.receivers.pixel) all.flags[p] = 1;
+  const std::vector<float> first_form = rt_svao(all, exact_all);
+  for (std::size_t k = 0; k < view.receivers.pixel.size(); ++k) ASSERT_EQ(first_form[view.receivers.pixel[k]], exact_all[k]);
+
+  CompareOptions options = options_for(1.0f);
+  options.methods = {Method::Vao, Method::RtSvaoRays};
+  const Gain hidden = box_gain(true, options, {}, 32), seen = box_gain(false, options, {}, 32);
+  std::printf("RT-SVAO rays: box seen %.4f, behind the wall %.4f; VAO %.4f, %.4f\n", seen.method.at(Method::RtSvaoRays),
+              hidden.method.at(Method::RtSvaoRays), seen.method.at(Method::Vao), hidden.method.at(Method::Vao));
+  EXPECT_EQ(hidden.method.at(Method::Vao), 0.0);
+  EXPECT_GT(hidden.method.at(Method::RtSvaoRays), 0.5 * seen.method.at(Method::Vao));
 }
 
 }  // namespace
