@@ -33,8 +33,8 @@ struct Node {
 };
 
 /// A leaf's triangles side by side, lane k = the leaf's triangle k (the same floats as `packed`),
-/// lanes past the leaf's size NaN: the certain kernels of `auto` set up a whole leaf at once,
-/// lane = triangle (lut/kernels-inl.h, certain_setup_block).
+/// lanes past the leaf's size NaN: the traversal (bvh and auto) sets up a whole leaf at once,
+/// lane = triangle (bvh/leaf_setup-inl.h).
 struct alignas(32) LeafBlock {
   static constexpr int kLanes = 8;
   float v0x[kLanes], v0y[kLanes], v0z[kLanes];

@@ -1,5 +1,6 @@
 // The BVH traversal of bvh/traverse.h for one instruction set, with the mask kernels inline.
-// Included by bvh/traverse_isa.cpp inside namespace EXAO_KERNEL_NS, after lut/kernels-inl.h.
+// Included by bvh/traverse_isa.cpp inside namespace EXAO_KERNEL_NS, after lut/kernels-inl.h and
+// the two set-up files.
 //
 // Clusters: the traversal asks the kernels only for the clusters of rays that can still change
 // the answer. A node's children are masked on the clusters that still have an open ray (a full
@@ -16,6 +17,8 @@
 //    with Embree (bvh/hybrid.h). Node spheres are grown by g, as the triangles' are, so that a
 //    node's mask still holds every maybe bit below it (the nesting of lut/sphere_test.h holds for
 //    spheres grown by the same length), and the box culls use a slack of at least g.
+// Both set up a node's children (bvh/node_setup-inl.h) and a leaf's triangles
+// (bvh/leaf_setup-inl.h) in lanes, then finish the survivors one by one.
 
 template <int Bits, bool Stats, bool Certain>
 [[nodiscard]] Mask<Bits> traverse_receiver(const Bvh& bvh, const lut::MaskEngine& engine, const Frame& frame,
