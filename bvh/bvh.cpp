@@ -7,6 +7,8 @@
 #include <limits>
 #include <string>
 
+#include "core/check.h"
+
 namespace exao::bvh {
 namespace {
 
@@ -59,6 +61,23 @@ struct Sphere {
   double radius;
 };
 
+// A sphere around the box centre holding every triangle sphere of the subtree's triangles
+// [first, last) (of `source`, triangle index_of(i)), tighter than the box's circumsphere, radius
+// rounded up past the float centre: the region mask of this sphere must contain those of the
+// triangles' spheres (lut/sphere_test.h, nesting).
+template <class IndexOf>
+Sphere enclosing_sphere(const RTCBounds& b, std::size_t first, std::size_t last, IndexOf index_of,
+                        const lut::TriangleSet& source) {
+  const glm::vec3 centre_f(0.5f * (b.lower_x + b.upper_x), 0.5f * (b.lower_y + b.upper_y), 0.5f * (b.lower_z + b.upper_z));
+  const glm::dvec3 centre(centre_f);
+  double radius = 0.0;
+  for (std::size_t i = first; i < last; ++i) {
+    const std::uint32_t t = index_of(i);
+    radius = std::max(radius, glm::length(glm::dvec3(source.centre[t]) - centre) + double(source.radius[t]));
+  }
+  return {centre, static_cast<double>(std::nextafter(static_cast<float>(radius * (1.0 + 1e-6)), INFINITY))};
+}
+
 class Flattener {
  public:
   Flattener(const lut::TriangleSet& source, Bvh& bvh) : source_(source), bvh_(bvh) {}
@@ -99,18 +118,8 @@ class Flattener {
   }
 
  private:
-  // A sphere around the box centre holding every triangle sphere of the subtree (tighter than
-  // the box's circumsphere), radius rounded up past the float centre: the region mask of this
-  // sphere must contain those of the triangles' spheres (lut/sphere_test.h, nesting).
   Sphere enclosing_sphere(const RTCBounds& b, std::size_t first, std::size_t last) const {
-    const glm::vec3 centre_f(0.5f * (b.lower_x + b.upper_x), 0.5f * (b.lower_y + b.upper_y), 0.5f * (b.lower_z + b.upper_z));
-    const glm::dvec3 centre(centre_f);
-    double radius = 0.0;
-    for (std::size_t i = first; i < last; ++i) {
-      const std::uint32_t t = bvh_.scene_triangle[i];
-      radius = std::max(radius, glm::length(glm::dvec3(source_.centre[t]) - centre) + double(source_.radius[t]));
-    }
-    return {centre, static_cast<double>(std::nextafter(static_cast<float>(radius * (1.0 + 1e-6)), INFINITY))};
+    return bvh::enclosing_sphere(b, first, last, [&](std::size_t i) { return bvh_.scene_triangle[i]; }, source_);
   }
 
   const lut::TriangleSet& source_;
@@ -127,10 +136,14 @@ lut::TriangleSet permuted(const lut::TriangleSet& source, const std::vector<std:
   take(out.v1, source.v1);
   take(out.v2, source.v2);
   take(out.two_sided, source.two_sided);
+  take(out.object, source.object);
   take(out.centre, source.centre);
   take(out.radius, source.radius);
   return out;
 }
+
+// The leaf-order copies the kernels read (packed, blocks) from bvh.triangles.
+void pack_leaves(Bvh& bvh);
 
 }  // namespace
 
@@ -206,7 +219,16 @@ Result<Bvh> Bvh::build(const lut::TriangleSet& triangles, const BvhOptions& opti
   rtcReleaseDevice(device);
   if (!error.empty()) return fail(error);
   bvh.triangles = permuted(triangles, bvh.scene_triangle);
+  pack_leaves(bvh);
+  return bvh;
+}
+
+namespace {
+
+void pack_leaves(Bvh& bvh) {
   bvh.packed.resize(bvh.triangles.size());
+  bvh.largest_coordinate = 0.0f;
+  bvh.blocks.clear();
   for (std::size_t t = 0; t < bvh.packed.size(); ++t) {
     bvh.packed[t] = bvh.triangles.packed(t);
     for (const glm::vec3& v : {bvh.packed[t].v0, bvh.packed[t].v1, bvh.packed[t].v2}) {
@@ -235,7 +257,59 @@ Result<Bvh> Bvh::build(const lut::TriangleSet& triangles, const BvhOptions& opti
       bvh.blocks.push_back(block);
     }
   }
-  return bvh;
+}
+
+}  // namespace
+
+void Bvh::refit(const lut::TriangleSet& source) {
+  EXAO_CHECK_EQ(source.size(), triangles.size());
+  triangles = permuted(source, scene_triangle);
+  pack_leaves(*this);
+  // Nodes are stored parent before child (flatten's preorder), and a subtree's triangles are
+  // contiguous in leaf order: so one pass from the last node up gives every child its box and
+  // triangle range before its parent needs them.
+  struct Extent {
+    RTCBounds box;
+    std::uint32_t first, last;
+  };
+  std::vector<Extent> extent(nodes.size());
+  for (std::size_t i = nodes.size(); i-- > 0;) {
+    Node& node = nodes[i];
+    Extent whole{{INFINITY, INFINITY, INFINITY, 0, -INFINITY, -INFINITY, -INFINITY, 0}, UINT32_MAX, 0};
+    for (int k = 0; k < node.child_count; ++k) {
+      Extent child{{INFINITY, INFINITY, INFINITY, 0, -INFINITY, -INFINITY, -INFINITY, 0}, 0, 0};
+      if (node.leaf_size[k] == 0) {
+        child = extent[node.child[k]];
+      } else {
+        child.first = node.child[k];
+        child.last = node.child[k] + node.leaf_size[k];
+        for (std::uint32_t t = child.first; t < child.last; ++t) {
+          for (const glm::vec3& v : {triangles.v0[t], triangles.v1[t], triangles.v2[t]}) {
+            child.box.lower_x = std::min(child.box.lower_x, v.x), child.box.upper_x = std::max(child.box.upper_x, v.x);
+            child.box.lower_y = std::min(child.box.lower_y, v.y), child.box.upper_y = std::max(child.box.upper_y, v.y);
+            child.box.lower_z = std::min(child.box.lower_z, v.z), child.box.upper_z = std::max(child.box.upper_z, v.z);
+          }
+        }
+      }
+      node.lo_x[k] = child.box.lower_x, node.lo_y[k] = child.box.lower_y, node.lo_z[k] = child.box.lower_z;
+      node.hi_x[k] = child.box.upper_x, node.hi_y[k] = child.box.upper_y, node.hi_z[k] = child.box.upper_z;
+      const Sphere s = enclosing_sphere(child.box, child.first, child.last,
+                                        [](std::size_t t) { return static_cast<std::uint32_t>(t); }, triangles);
+      node.centre_x[k] = static_cast<float>(s.centre.x);
+      node.centre_y[k] = static_cast<float>(s.centre.y);
+      node.centre_z[k] = static_cast<float>(s.centre.z);
+      node.radius[k] = static_cast<float>(s.radius);
+      whole.box.lower_x = std::min(whole.box.lower_x, child.box.lower_x);
+      whole.box.lower_y = std::min(whole.box.lower_y, child.box.lower_y);
+      whole.box.lower_z = std::min(whole.box.lower_z, child.box.lower_z);
+      whole.box.upper_x = std::max(whole.box.upper_x, child.box.upper_x);
+      whole.box.upper_y = std::max(whole.box.upper_y, child.box.upper_y);
+      whole.box.upper_z = std::max(whole.box.upper_z, child.box.upper_z);
+      whole.first = std::min(whole.first, child.first);
+      whole.last = std::max(whole.last, child.last);
+    }
+    extent[i] = whole;
+  }
 }
 
 }  // namespace exao::bvh

@@ -61,6 +61,21 @@ struct Bvh {
   /// Builds over `triangles` (copied in leaf order: the floats are the same, so every mask
   /// equals brute's). Fails on an empty set or an Embree error.
   [[nodiscard]] static Result<Bvh> build(const lut::TriangleSet& triangles, const BvhOptions& options = {});
+
+  /// Refit after a deformation: `triangles` are the ones build was given (same count, order,
+  /// sidedness and objects), at new positions. The tree keeps its topology; every box and
+  /// sphere is recomputed bottom-up from the new triangles, as conservative as build's, so the
+  /// masks are brute's bit for bit as after a fresh build (only the culling's speed may drop
+  /// when triangles move far from their old neighbours). Single-threaded, linear in the size.
+  void refit(const lut::TriangleSet& triangles);
 };
+
+/// The lanes of a leaf (bit k: triangle first + k, k < count) that belong to `object`: the
+/// triangles a receiver excluding it skips (Receiver::excluded_object).
+[[nodiscard]] inline std::uint32_t object_lanes(const Bvh& bvh, std::uint32_t first, int count, std::uint32_t object) {
+  std::uint32_t lanes = 0;
+  for (int k = 0; k < count; ++k) lanes |= static_cast<std::uint32_t>(bvh.packed[first + k].object == object) << k;
+  return lanes;
+}
 
 }  // namespace exao::bvh

@@ -125,6 +125,7 @@ MaskSet occlusion(const MaskEngine& engine, const TriangleSet& triangles, std::s
                           const Frame frame = engine.rays().frame(receivers[r]);
                           Mask<Bits> mask;
                           for (const std::uint32_t t : candidates(frame.origin)) {
+                            if (!triangles.blocks_for(t, frame)) continue;  // the excluded object
                             mask |= engine.triangle_mask<Bits>(triangles, t, frame);
                             if (mask == all) break;  // nothing left to block: more ORs change nothing
                           }

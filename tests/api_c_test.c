@@ -262,18 +262,20 @@ int main(int argc, char** argv) {
   exao_options_init(&options);
   options.samples = 128;
   options.radius = 0.8f;
+  /* The API's default offset follows each point, exao query's the diagonal: give one to both. */
+  options.origin_offset = 0.001f;
   if (options.backend != EXAO_BACKEND_AUTO) {
     fprintf(stderr, "FAIL: the default backend is %d, not EXAO_BACKEND_AUTO\n", (int)options.backend);
     return 1;
   }
-  same_as_exao_query(argv[1], argv[2], &options, "-n 128 -r 0.8");
+  same_as_exao_query(argv[1], argv[2], &options, "-n 128 -r 0.8 --offset 0.001");
   options.backend = EXAO_BACKEND_BVH;
   options.mask_mode = EXAO_MASKS_LUT;
-  same_as_exao_query(argv[1], argv[2], &options, "-n 128 -r 0.8 --masks lut --method bvh");
+  same_as_exao_query(argv[1], argv[2], &options, "-n 128 -r 0.8 --offset 0.001 --masks lut --method bvh");
   options.samples = 1024;
   options.mask_mode = EXAO_MASKS_EXACT;
   options.radius = -1.0f; /* the default: 5% of the diagonal */
-  same_as_exao_query(argv[1], argv[2], &options, "-n 1024 --masks exact --method bvh");
+  same_as_exao_query(argv[1], argv[2], &options, "-n 1024 --offset 0.001 --masks exact --method bvh");
   options.samples = 64;
   options.radius = 0.4f;
   options.origin_offset = 0.01f;
