@@ -204,6 +204,7 @@ template <int Bits, bool Stats, bool Certain>
         // The leaf's set-up in lanes, then the planes of the triangles that pass, in order.
         CertainBlock setup;
         std::uint32_t live = certain_setup_block(ctx, bvh.blocks[bvh.leaf_block[entry.child]], frame, g, setup);
+        if (frame.excluded_object != kNoObject) live &= ~object_lanes(bvh, entry.child, entry.leaf_size, frame.excluded_object);
         if constexpr (Stats) stats->triangles_tested += entry.leaf_size;
         while (live) {
           const int l = std::countr_zero(live);
@@ -221,6 +222,7 @@ template <int Bits, bool Stats, bool Certain>
         }
       } else {
         for (std::uint32_t t = entry.child; t < entry.child + entry.leaf_size; ++t) {
+          if (bvh.packed[t].object == frame.excluded_object) continue;  // Receiver::excluded_object
           const Mask<Bits> m = triangle_mask<Bits>(ctx, bvh.packed[t], frame, allowed, counters);
           if constexpr (Stats) {
             ++stats->triangles_tested;
