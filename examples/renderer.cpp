@@ -131,8 +131,8 @@ Geometry make_scene() {
   add_sphere(g.pebble, {0.0f, 0.25f, 0.0f}, {0.5f, 0.25f, 0.4f}, 24, 12);
   for (int i = 0; i < 9; ++i) {
     const float s = 0.35f + 0.12f * static_cast<float>(i % 3);
-    const float x = -3.6f + 0.85f * static_cast<float>(i), z = 2.6f + 0.35f * static_cast<float>(i % 2);
-    g.pebble_at.push_back({s, 0, 0, x, 0, s, 0, 0.0f, 0, 0, s, z});
+    const float px = -3.6f + 0.85f * static_cast<float>(i), pz = 2.6f + 0.35f * static_cast<float>(i % 2);
+    g.pebble_at.push_back({s, 0, 0, px, 0, s, 0, 0.0f, 0, 0, s, pz});
   }
   return g;
 }
