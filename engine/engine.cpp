@@ -193,6 +193,10 @@ Result<Engine> Engine::build(std::shared_ptr<const Geometry> geometry, const Opt
   if (auto ok = check_options(options); !ok) return std::unexpected(ok.error());
   if (auto ok = check_serves(options, receivers); !ok) return std::unexpected(ok.error());
   EXAO_CHECK(geometry != nullptr);
+  if (options.offset_default == OffsetDefault::PointScale && !options.origin_offset && options.method == Method::Raster) {
+    // The raster volumes are grown by one offset for every pixel (raster/influence_volume.h).
+    return fail("origin_offset: the raster method needs one offset for all pixels: give one, or the scene's default");
+  }
   if (!geometry->serves(options.method)) {
     return fail(std::string("method: the geometry was not prepared for ") + method_name(options.method));
   }

@@ -62,10 +62,6 @@ Result<void> check_options(const Options& o) {
   if (!in_range(o.falloff, Falloff::Quadratic)) return fail("falloff: not a falloff, got " + number(static_cast<int>(o.falloff)));
   if (!in_range(o.sidedness, Sidedness::Two)) return fail("sidedness: not a sidedness, got " + number(static_cast<int>(o.sidedness)));
   if (!in_range(o.method, Method::Auto)) return fail("method: not a method, got " + number(static_cast<int>(o.method)));
-  if (o.offset_default == OffsetDefault::PointScale && !o.origin_offset && o.method == Method::Raster) {
-    // The raster volumes are grown by one offset for every pixel (raster/influence_volume.h).
-    return fail("origin_offset: the raster method needs one offset for all pixels: give one, or the scene's default");
-  }
   if (!in_range(o.hybrid, bvh::HybridPolicy::Rays)) return fail("hybrid: not a policy, got " + number(static_cast<int>(o.hybrid)));
   if (!in_range(o.masks, lut::MaskMode::Exact)) return fail("masks: not a mask mode, got " + number(static_cast<int>(o.masks)));
   if (!in_range(o.embree.rays, EmbreeRays::Packet16)) {
