@@ -133,7 +133,8 @@ exao::api::Mesh to_cpp(const exao_mesh& m) {
 }
 
 exao::api::Receiver to_cpp(const exao_receiver& r) {
-  return {{r.position[0], r.position[1], r.position[2]}, {r.normal[0], r.normal[1], r.normal[2]}, r.key};
+  return {{r.position[0], r.position[1], r.position[2]}, {r.normal[0], r.normal[1], r.normal[2]}, r.key,
+          r.exclude == 0 ? exao::api::kNoObject : r.exclude - 1};
 }
 
 // Wraps a built engine in a handle, or reports the build's error.
@@ -283,6 +284,7 @@ exao_status exao_engine_get_info(const exao_engine* engine, exao_engine_info* in
   info->table_resolution = i.table_resolution;
   info->table_bytes = i.table_bytes;
   info->simd = i.simd;
+  info->origin_offset_per_magnitude = i.origin_offset_per_magnitude;
   return EXAO_OK;
 }
 

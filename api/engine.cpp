@@ -34,9 +34,19 @@ namespace exao::api {
 using detail::guard;
 using detail::invalid;
 
+// How build's meshes became the scene's triangles, for refit: per placement (mesh, or
+// instance) its mesh and triangle count, and per triangle given whether it was kept.
+struct SceneLayout {
+  bool instanced = false;
+  std::vector<std::size_t> mesh;       // per placement
+  std::vector<std::size_t> triangles;  // per placement: its mesh's triangle_count at build
+  std::vector<bool> kept;              // per triangle given, in placement order
+};
+
 struct Engine::Impl {
   engine::Engine engine;
   EngineInfo info;
+  std::shared_ptr<const SceneLayout> layout;  // null for Engine::open (a file has no arrays to refit)
 };
 
 namespace {
@@ -84,6 +94,7 @@ constexpr std::array<std::pair<std::string_view, std::string_view>, 12> kOptionN
   out.falloff = static_cast<exao::Falloff>(static_cast<int>(o.falloff));
   out.pattern_seed = o.pattern_seed;
   out.origin_offset = o.origin_offset;
+  out.offset_default = engine::OffsetDefault::PointScale;  // the API's default (exao.hpp, Options)
   out.sidedness = static_cast<exao::Sidedness>(static_cast<int>(o.sidedness));
   out.method = o.backend == Backend::Bvh      ? engine::Method::Bvh
                : o.backend == Backend::Brute  ? engine::Method::Brute
@@ -126,10 +137,8 @@ constexpr std::array<std::pair<std::string_view, std::string_view>, 12> kOptionN
           m[8] * v.x + m[9] * v.y + m[10] * v.z + m[11]};
 }
 
-// Appends mesh k's triangles to `scene`; zero-area ones are dropped (they block no ray in any
-// backend) and counted in scene.report.
-[[nodiscard]] std::optional<Error> add_mesh(Scene& scene, const Mesh& mesh, std::size_t k) {
-  const std::string name = "meshes[" + std::to_string(k) + "]";
+// Mesh k's arrays and sizes, as build and refit read them.
+[[nodiscard]] std::optional<Error> check_mesh(const Mesh& mesh, const std::string& name) {
   const std::size_t n = mesh.triangle_count;
   if (n == 0) return std::nullopt;
   if (!mesh.vertices) return invalid(name + ".vertices: null with triangle_count " + std::to_string(n));
@@ -155,32 +164,107 @@ constexpr std::array<std::pair<std::string_view, std::string_view>, 12> kOptionN
       if (!std::isfinite(mesh.transform[i])) return invalid(name + ".transform: element " + std::to_string(i) + " is not finite");
     }
   }
-  scene.vertices.reserve(scene.vertices.size() + 3 * n);
-  scene.two_sided.reserve(scene.two_sided.size() + n);
-  scene.material.reserve(scene.material.size() + n);
-  for (std::size_t t = 0; t < n; ++t) {
-    std::size_t index[3] = {3 * t, 3 * t + 1, 3 * t + 2};
-    if (mesh.indices) {
-      const auto* row = reinterpret_cast<const std::uint32_t*>(reinterpret_cast<const unsigned char*>(mesh.indices) +
-                                                               t * mesh.index_stride);
-      for (int j = 0; j < 3; ++j) {
-        index[j] = row[j];
-        if (index[j] >= mesh.vertex_count) {
-          return invalid(name + ": triangle " + std::to_string(t) + " uses vertex " + std::to_string(index[j]) +
-                         ", vertex_count is " + std::to_string(mesh.vertex_count));
-        }
-      }
-    }
-    glm::vec3 v[3];
+  return std::nullopt;
+}
+
+[[nodiscard]] std::optional<Error> check_transform(const float* m, const std::string& name) {
+  if (!m) return std::nullopt;
+  for (int i = 0; i < 12; ++i) {
+    if (!std::isfinite(m[i])) return invalid(name + ".transform: element " + std::to_string(i) + " is not finite");
+  }
+  return std::nullopt;
+}
+
+// Triangle t of a checked mesh in world units: its vertices through the mesh's transform, then
+// the instance's (nullptr: none).
+[[nodiscard]] std::optional<Error> world_triangle(const Mesh& mesh, const float* instance, std::size_t t,
+                                                  const std::string& name, glm::vec3 (&v)[3]) {
+  std::size_t index[3] = {3 * t, 3 * t + 1, 3 * t + 2};
+  if (mesh.indices) {
+    const auto* row = reinterpret_cast<const std::uint32_t*>(reinterpret_cast<const unsigned char*>(mesh.indices) +
+                                                             t * mesh.index_stride);
     for (int j = 0; j < 3; ++j) {
-      v[j] = place(mesh.transform, read_vertex(mesh, index[j]));
-      if (!(std::isfinite(v[j].x) && std::isfinite(v[j].y) && std::isfinite(v[j].z))) {
-        return invalid(name + ": triangle " + std::to_string(t) + " has a non-finite vertex (" + std::to_string(index[j]) +
-                       (mesh.transform ? ", after the transform)" : ")"));
+      index[j] = row[j];
+      if (index[j] >= mesh.vertex_count) {
+        return invalid(name + ": triangle " + std::to_string(t) + " uses vertex " + std::to_string(index[j]) +
+                       ", vertex_count is " + std::to_string(mesh.vertex_count));
       }
     }
-    const bool two = mesh.two_sided ? mesh.two_sided[t] != 0 : true;
-    scene.add_triangle(v[0], v[1], v[2], two, -1);
+  }
+  for (int j = 0; j < 3; ++j) {
+    v[j] = place(instance, place(mesh.transform, read_vertex(mesh, index[j])));
+    if (!(std::isfinite(v[j].x) && std::isfinite(v[j].y) && std::isfinite(v[j].z))) {
+      return invalid(name + ": triangle " + std::to_string(t) + " has a non-finite vertex (" + std::to_string(index[j]) +
+                     (mesh.transform || instance ? ", after the transform)" : ")"));
+    }
+  }
+  return std::nullopt;
+}
+
+// One placement of a mesh in the scene: the mesh (meshes[mesh]) and its instance transform.
+struct Placement {
+  std::size_t mesh = 0;
+  const float* transform = nullptr;
+};
+
+// The placements of build's arguments: one per mesh, or one per instance. Checks them.
+[[nodiscard]] Result<std::vector<Placement>> placements_of(std::span<const Mesh> meshes,
+                                                           std::optional<std::span<const Instance>> instances) {
+  if (meshes.empty()) return invalid("meshes: none given");
+  if (!meshes.data()) return invalid("meshes: null");
+  for (std::size_t k = 0; k < meshes.size(); ++k) {
+    if (std::optional<Error> bad = check_mesh(meshes[k], "meshes[" + std::to_string(k) + "]")) return std::move(*bad);
+  }
+  std::vector<Placement> out;
+  if (!instances) {
+    for (std::size_t k = 0; k < meshes.size(); ++k) out.push_back({k, nullptr});
+    return out;
+  }
+  if (instances->empty()) return invalid("instances: none given");
+  if (!instances->data()) return invalid("instances: null");
+  if (instances->size() >= kNoObject) return invalid("instances: more than 2^32 - 2");
+  for (std::size_t i = 0; i < instances->size(); ++i) {
+    const Instance& instance = (*instances)[i];
+    const std::string name = "instances[" + std::to_string(i) + "]";
+    if (instance.mesh >= meshes.size()) {
+      return invalid(name + ".mesh: " + std::to_string(instance.mesh) + " is not a mesh (" +
+                     std::to_string(meshes.size()) + " given)");
+    }
+    if (std::optional<Error> bad = check_transform(instance.transform, name)) return std::move(*bad);
+    out.push_back({instance.mesh, instance.transform});
+  }
+  return out;
+}
+
+// The name of placement k in errors: its mesh, or the instance and its mesh.
+[[nodiscard]] std::string placement_name(const std::vector<Placement>& placements, std::size_t k, bool instanced) {
+  const std::string mesh = "meshes[" + std::to_string(placements[k].mesh) + "]";
+  return instanced ? "instances[" + std::to_string(k) + "] (" + mesh + ")" : mesh;
+}
+
+// Appends every placement's triangles to `scene`, object k for placement k; zero-area ones are
+// dropped (they block no ray in any backend), counted in scene.report, and their bit of `kept`
+// (one per triangle given, in placement order) left 0.
+[[nodiscard]] std::optional<Error> add_placements(Scene& scene, std::span<const Mesh> meshes,
+                                                  const std::vector<Placement>& placements, bool instanced,
+                                                  std::vector<bool>& kept) {
+  for (std::size_t k = 0; k < placements.size(); ++k) {
+    const Mesh& mesh = meshes[placements[k].mesh];
+    const std::size_t n = mesh.triangle_count;
+    if (n == 0) continue;
+    const std::string name = placement_name(placements, k, instanced);
+    scene.vertices.reserve(scene.vertices.size() + 3 * n);
+    scene.two_sided.reserve(scene.two_sided.size() + n);
+    scene.material.reserve(scene.material.size() + n);
+    scene.object.reserve(scene.object.size() + n);
+    for (std::size_t t = 0; t < n; ++t) {
+      glm::vec3 v[3];
+      if (std::optional<Error> bad = world_triangle(mesh, placements[k].transform, t, name, v)) return bad;
+      const bool two = mesh.two_sided ? mesh.two_sided[t] != 0 : true;
+      const bool added = scene.add_triangle(v[0], v[1], v[2], two, -1);
+      if (added) scene.object.push_back(static_cast<std::uint32_t>(k));
+      kept.push_back(added);
+    }
   }
   return std::nullopt;
 }
@@ -193,7 +277,8 @@ constexpr std::array<std::pair<std::string_view, std::string_view>, 12> kOptionN
 }
 
 [[nodiscard]] exao::Receiver to_internal(const Receiver& r) {
-  return {glm::vec3(r.position.x, r.position.y, r.position.z), glm::vec3(r.normal.x, r.normal.y, r.normal.z), r.key};
+  return {glm::vec3(r.position.x, r.position.y, r.position.z), glm::vec3(r.normal.x, r.normal.y, r.normal.z), r.key,
+          r.excluded_object};
 }
 
 // --- Build --------------------------------------------------------------------------------------
@@ -223,7 +308,7 @@ constexpr std::array<std::pair<std::string_view, std::string_view>, 12> kOptionN
     return std::move(*e);
   }();
   if (!built) return built.error();
-  auto impl = std::make_unique<Engine::Impl>(Engine::Impl{std::move(*built), {}});
+  auto impl = std::make_unique<Engine::Impl>(Engine::Impl{std::move(*built), {}, nullptr});
   const engine::Engine& e = impl->engine;
   const Bounds& bounds = e.geometry().bounds();
   EngineInfo& info = impl->info;
@@ -234,6 +319,7 @@ constexpr std::array<std::pair<std::string_view, std::string_view>, 12> kOptionN
   info.mask_words = e.mask_words();
   info.radius = e.radius();
   info.origin_offset = e.origin_offset();
+  info.origin_offset_per_magnitude = e.rays().offset_per_magnitude;
   info.threads = e.threads();
   info.triangles = e.geometry().triangle_count();
   info.two_sided_triangles = e.geometry().two_sided_count();
@@ -382,19 +468,97 @@ Engine::Engine(Engine&&) noexcept = default;
 Engine& Engine::operator=(Engine&&) noexcept = default;
 Engine::~Engine() = default;
 
+namespace {
+
+[[nodiscard]] Result<Engine::Impl*> build_placed(std::span<const Mesh> meshes,
+                                                 std::optional<std::span<const Instance>> instances,
+                                                 const Options& options) {
+  if (std::optional<Error> bad = check_options(options)) return std::move(*bad);
+  Result<std::vector<Placement>> placements = placements_of(meshes, instances);
+  if (!placements) return placements.error();
+  auto layout = std::make_shared<SceneLayout>();
+  layout->instanced = instances.has_value();
+  Scene scene;
+  scene.name = "meshes";
+  if (std::optional<Error> bad = add_placements(scene, meshes, *placements, layout->instanced, layout->kept)) {
+    return std::move(*bad);
+  }
+  for (const Placement& p : *placements) {
+    layout->mesh.push_back(p.mesh);
+    layout->triangles.push_back(meshes[p.mesh].triangle_count);
+  }
+  Result<std::unique_ptr<Engine::Impl>> impl = build_impl(scene, options, StatusCode::InvalidArgument);
+  if (!impl) return impl.error();
+  (*impl)->layout = std::move(layout);
+  return impl->release();
+}
+
+}  // namespace
+
 Result<Engine> Engine::build(std::span<const Mesh> meshes, const Options& options) noexcept {
   return guard<Result<Engine>>([&]() -> Result<Engine> {
-    if (std::optional<Error> bad = check_options(options)) return std::move(*bad);
-    if (meshes.empty()) return invalid("meshes: none given");
-    if (!meshes.data()) return invalid("meshes: null");
-    Scene scene;
-    scene.name = "meshes";
-    for (std::size_t k = 0; k < meshes.size(); ++k) {
-      if (std::optional<Error> bad = add_mesh(scene, meshes[k], k)) return std::move(*bad);
-    }
-    Result<std::unique_ptr<Impl>> impl = build_impl(scene, options, StatusCode::InvalidArgument);
+    Result<Impl*> impl = build_placed(meshes, std::nullopt, options);
     if (!impl) return impl.error();
-    return Engine(std::move(*impl));
+    return Engine(std::unique_ptr<Impl>(*impl));
+  });
+}
+
+Result<Engine> Engine::build(std::span<const Mesh> meshes, std::span<const Instance> instances,
+                             const Options& options) noexcept {
+  return guard<Result<Engine>>([&]() -> Result<Engine> {
+    Result<Impl*> impl = build_placed(meshes, instances, options);
+    if (!impl) return impl.error();
+    return Engine(std::unique_ptr<Impl>(*impl));
+  });
+}
+
+Status Engine::refit(std::span<const Mesh> meshes, std::span<const Instance> instances) noexcept {
+  return guard<Status>([&]() -> Status {
+    if (!impl_) return invalid("engine: empty (moved from)");
+    if (!impl_->layout) return invalid("engine: opened from a file, which has no arrays to refit");
+    const SceneLayout& layout = *impl_->layout;
+    if (layout.instanced == instances.empty()) {
+      return invalid(layout.instanced ? "instances: the engine was built with instances, none given"
+                                      : "instances: the engine was built without instances");
+    }
+    Result<std::vector<Placement>> placements =
+        placements_of(meshes, layout.instanced ? std::optional(instances) : std::nullopt);
+    if (!placements) return placements.error();
+    if (placements->size() != layout.mesh.size()) {
+      return invalid(std::string(layout.instanced ? "instances" : "meshes") + ": " +
+                     std::to_string(placements->size()) + " given, build had " + std::to_string(layout.mesh.size()));
+    }
+    std::vector<glm::vec3> vertices;
+    vertices.reserve(3 * impl_->info.triangles);
+    std::size_t given = 0;
+    for (std::size_t k = 0; k < placements->size(); ++k) {
+      const Placement& p = (*placements)[k];
+      const std::string name = placement_name(*placements, k, layout.instanced);
+      if (p.mesh != layout.mesh[k]) {
+        return invalid(name + ": build placed meshes[" + std::to_string(layout.mesh[k]) + "] here");
+      }
+      const Mesh& mesh = meshes[p.mesh];
+      if (mesh.triangle_count != layout.triangles[k]) {
+        return invalid(name + ".triangle_count: " + std::to_string(mesh.triangle_count) + ", build had " +
+                       std::to_string(layout.triangles[k]));
+      }
+      for (std::size_t t = 0; t < mesh.triangle_count; ++t, ++given) {
+        if (!layout.kept[given]) continue;
+        glm::vec3 v[3];
+        if (std::optional<Error> bad = world_triangle(mesh, p.transform, t, name, v)) return std::move(*bad);
+        for (const glm::vec3& corner : v) {
+          if (!within_coordinate_limit(corner)) {
+            return invalid(name + ": triangle " + std::to_string(t) + " has a vertex beyond +-1e17 (Embree's limit)");
+          }
+          vertices.push_back(corner);
+        }
+      }
+    }
+    if (auto ok = impl_->engine.refit(vertices); !ok) return from_engine(ok.error(), StatusCode::BackendError);
+    const Bounds& bounds = impl_->engine.geometry().bounds();
+    impl_->info.bounds_lo = {bounds.lo.x, bounds.lo.y, bounds.lo.z};
+    impl_->info.bounds_hi = {bounds.hi.x, bounds.hi.y, bounds.hi.z};
+    return {};
   });
 }
 
@@ -416,7 +580,27 @@ Result<Engine> Engine::with_settings(const QuerySettings& settings) const noexce
     engine::Options options = impl_->engine.options();
     if (settings.radius) options.radius = engine::Length{*settings.radius, false};
     if (settings.origin_offset) options.origin_offset = settings.origin_offset;
-    if (settings.samples) options.samples = *settings.samples;
+    if (settings.samples) {
+      options.samples = *settings.samples;
+      options.given_pattern.reset();  // a new N is the generated pattern's, unless directions follow
+    }
+    if (!settings.directions.empty() || !settings.lengths.empty()) {
+      if (!settings.directions.data() || (!settings.lengths.empty() && !settings.lengths.data())) {
+        return invalid("settings.directions or settings.lengths: null");
+      }
+      std::vector<glm::vec3> directions(settings.directions.size());
+      for (std::size_t i = 0; i < directions.size(); ++i) {
+        directions[i] = {settings.directions[i].x, settings.directions[i].y, settings.directions[i].z};
+      }
+      exao::Result<SamplePattern> given = make_given_pattern(directions, settings.lengths);
+      if (!given) return invalid("settings." + given.error().message);
+      if (settings.samples && *settings.samples != given->count) {
+        return invalid("settings.samples: " + std::to_string(*settings.samples) + " differs from the " +
+                       std::to_string(given->count) + " directions given");
+      }
+      options.samples = given->count;
+      options.given_pattern = std::make_shared<const SamplePattern>(std::move(*given));
+    }
     exao::Result<engine::Engine> e =
         engine::Engine::build(impl_->engine.shared_geometry(), options, engine::Receivers::Points);
     if (!e) {
@@ -425,12 +609,13 @@ Result<Engine> Engine::with_settings(const QuerySettings& settings) const noexce
       if (error.message.starts_with("options.")) error.message.replace(0, 7, "settings");
       return error;
     }
-    auto impl = std::make_unique<Impl>(Impl{std::move(*e), impl_->info});
+    auto impl = std::make_unique<Impl>(Impl{std::move(*e), impl_->info, impl_->layout});
     EngineInfo& info = impl->info;
     info.samples = impl->engine.samples();
     info.mask_words = impl->engine.mask_words();
     info.radius = impl->engine.radius();
     info.origin_offset = impl->engine.origin_offset();
+    info.origin_offset_per_magnitude = impl->engine.rays().offset_per_magnitude;
     info.table_resolution = impl->engine.mask_engine() ? impl->engine.mask_engine()->table_resolution() : 0;
     info.table_bytes = impl->engine.mask_engine() ? impl->engine.mask_engine()->table_bytes() : 0;
     return Engine(std::move(impl));

@@ -11,6 +11,7 @@
 #include <tbb/parallel_reduce.h>
 
 #include "bvh/sah_builder.h"
+#include "core/check.h"
 
 namespace exao::bvh {
 namespace {
@@ -39,6 +40,7 @@ struct SceneSource {
     lut::bounding_sphere(p.v0, p.v1, p.v2, p.centre, p.radius);
     p.two_sided = scene.two_sided[t];
     p.cutout = scene.cutouts && scene.cutouts->any() && scene.cutouts->tests(t) ? 1u : 0u;
+    p.object = t < scene.object.size() ? scene.object[t] : 0u;
     return p;
   }
   [[nodiscard]] std::shared_ptr<const Cutouts> cutouts() const {
@@ -150,6 +152,44 @@ Result<Bvh> build_from(const Source& source, const BvhOptions& options, const Pr
   return bvh;
 }
 
+// Refit's bottom-up pass over the subtree of node `index`: every child slot gets its box (of its
+// packed triangles' vertices, as the builder's) and sphere (set_sphere, as build's), every leaf
+// its block. Returns the subtree's box and its range [first, last) of packed triangles. The
+// depth is at most 64 (the builder's limit), so recursion is safe.
+struct Extent {
+  glm::vec3 lo{INFINITY}, hi{-INFINITY};
+  std::uint32_t first = UINT32_MAX, last = 0;
+};
+
+Extent refit_node(Bvh& bvh, std::uint32_t index) {
+  Node& node = bvh.nodes[index];
+  Extent whole;
+  for (int k = 0; k < node.child_count; ++k) {
+    Extent child;
+    if (node.leaf_size[k] == 0) {
+      child = refit_node(bvh, node.child[k]);
+    } else {
+      child.first = node.child[k];
+      child.last = node.child[k] + node.leaf_size[k];
+      for (std::uint32_t t = child.first; t < child.last; ++t) {
+        for (const glm::vec3& v : {bvh.packed[t].v0, bvh.packed[t].v1, bvh.packed[t].v2}) {
+          child.lo = glm::min(child.lo, v);
+          child.hi = glm::max(child.hi, v);
+        }
+      }
+      bvh.blocks[bvh.leaf_block[node.child[k]]] = make_block(bvh, node.child[k], node.leaf_size[k]);
+    }
+    node.lo_x[k] = child.lo.x, node.lo_y[k] = child.lo.y, node.lo_z[k] = child.lo.z;
+    node.hi_x[k] = child.hi.x, node.hi_y[k] = child.hi.y, node.hi_z[k] = child.hi.z;
+    set_sphere(node, k, bvh, child.first, child.last);
+    whole.lo = glm::min(whole.lo, child.lo);
+    whole.hi = glm::max(whole.hi, child.hi);
+    whole.first = std::min(whole.first, child.first);
+    whole.last = std::max(whole.last, child.last);
+  }
+  return whole;
+}
+
 }  // namespace
 
 Result<void> check_options(const BvhOptions& options) {
@@ -168,6 +208,28 @@ Result<Bvh> Bvh::build(const lut::TriangleSet& triangles, const BvhOptions& opti
 
 Result<Bvh> Bvh::build(const Scene& scene, const BvhOptions& options, const ProgressCallback& progress) {
   return build_from(SceneSource{scene}, options, progress);
+}
+
+void Bvh::refit(std::span<const glm::vec3> vertices) {
+  EXAO_CHECK_EQ(vertices.size(), 3 * packed.size());
+  // The packed triangles keep their sidedness, cut-out flag and object; only the floats move,
+  // with the spheres as TriangleSet::build computes them (the same floats as brute's).
+  largest_coordinate = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, packed.size(), kGrain), 0.0f,
+      [&](const tbb::blocked_range<std::size_t>& range, float largest) {
+        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+          lut::PackedTriangle& p = packed[i];
+          const std::size_t t = scene_triangle[i];
+          p.v0 = vertices[3 * t];
+          p.v1 = vertices[3 * t + 1];
+          p.v2 = vertices[3 * t + 2];
+          lut::bounding_sphere(p.v0, p.v1, p.v2, p.centre, p.radius);
+          for (const glm::vec3& v : {p.v0, p.v1, p.v2}) largest = std::max({largest, std::abs(v.x), std::abs(v.y), std::abs(v.z)});
+        }
+        return largest;
+      },
+      [](float x, float y) { return std::max(x, y); });
+  refit_node(*this, 0);
 }
 
 }  // namespace exao::bvh

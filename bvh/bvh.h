@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -75,6 +76,22 @@ struct Bvh {
   /// triangle fewer at the peak): the spheres are computed as TriangleSet::build computes them.
   [[nodiscard]] static Result<Bvh> build(const Scene& scene, const BvhOptions& options = {},
                                          const ProgressCallback& progress = {});
+
+  /// Refit after a deformation: `vertices` are the triangles build was given (3 per triangle,
+  /// in the scene's order; sidedness, objects and cut-outs kept), at new positions. The tree keeps its topology; every box
+  /// and sphere, the leaf blocks and the packed floats are recomputed bottom-up from the new
+  /// triangles, as conservative as build's, so the masks are brute's bit for bit as after a fresh
+  /// build (only the culling's speed may drop when triangles move far from their old
+  /// neighbours). Single-threaded, linear in the size.
+  void refit(std::span<const glm::vec3> vertices);
 };
+
+/// The lanes of a leaf (bit k: triangle first + k, k < count) that belong to `object`: the
+/// triangles a receiver excluding it skips (Receiver::excluded_object).
+[[nodiscard]] inline std::uint32_t object_lanes(const Bvh& bvh, std::uint32_t first, int count, std::uint32_t object) {
+  std::uint32_t lanes = 0;
+  for (int k = 0; k < count; ++k) lanes |= static_cast<std::uint32_t>(bvh.packed[first + k].object == object) << k;
+  return lanes;
+}
 
 }  // namespace exao::bvh

@@ -118,6 +118,7 @@ template <int Bits, bool Stats, bool Certain>
       // The leaf's set-up in lanes, then the rest for the triangles that pass, in order.
       LeafSetup setup;
       std::uint32_t live = leaf_setup<Certain>(ctx, bvh.blocks[bvh.leaf_block[entry.child]], frame, g, setup);
+      if (frame.excluded_object != kNoObject) live &= ~object_lanes(bvh, entry.child, entry.leaf_size, frame.excluded_object);
       if constexpr (Stats) stats->triangles_tested += entry.leaf_size;
       while (live) {
         const int l = std::countr_zero(live);

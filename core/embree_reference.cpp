@@ -32,8 +32,10 @@ struct EmbreeScene::Impl {
     const glm::vec3* front_normals = nullptr;  // one-sided geometry only
     const std::uint32_t* scene_triangle = nullptr;  // triangle_of[geometry]
     const Cutouts* cutouts = nullptr;          // null: every triangle opaque
+    const std::uint32_t* objects = nullptr;    // per primitive: Scene::object
   };
   std::shared_ptr<const Cutouts> cutouts;
+  std::vector<std::uint32_t> objects[2];
   FilterData filter_data[2];
   std::mutex error_mutex;
   std::string first_error;
@@ -60,6 +62,8 @@ void on_embree_error(void* user, RTCError code, const char* message) {
 // The occlusion filter of both geometries: DESIGN.md section 1's sidedness and the surface rule.
 // - A one-sided triangle blocks a ray only when the ray arrives at its front face, i.e. travels
 //   against the counter-clockwise normal.
+// - A triangle of the object the ray's receiver excludes (Receiver::excluded_object, carried in
+//   the ray's id) blocks nothing: the masks skip the same triangles.
 // - A triangle whose plane the ray origin lies on blocks nothing (core/surface_rule.h).
 //   Embree's own test (t > tnear = 0) gives that only where rounding leaves t = 0 exactly (an
 //   axis-aligned plane); on a tilted plane it hits about half such rays, so the shared test
@@ -69,6 +73,10 @@ void occlusion_filter(const RTCFilterFunctionNArguments* args) {
   for (unsigned i = 0; i < args->N; ++i) {
     if (args->valid[i] != -1) continue;
     const unsigned prim = RTCHitN_primID(args->hit, args->N, i);
+    if (data->objects[prim] == RTCRayN_id(args->ray, args->N, i)) {
+      args->valid[i] = 0;
+      continue;
+    }
     if (data->front_normals) {
       const glm::vec3& n = data->front_normals[prim];
       const float along = RTCRayN_dir_x(args->ray, args->N, i) * n.x + RTCRayN_dir_y(args->ray, args->N, i) * n.y +
@@ -127,6 +135,11 @@ void attach_triangles(EmbreeScene::Impl& impl, const Scene& scene, unsigned id) 
     }
   }
   impl.filter_data[id].vertices = vertices;
+  impl.objects[id].resize(triangles.size());
+  for (std::size_t k = 0; k < triangles.size(); ++k) {
+    impl.objects[id][k] = triangles[k] < scene.object.size() ? scene.object[triangles[k]] : 0;
+  }
+  impl.filter_data[id].objects = impl.objects[id].data();
   if (id == kOneSided) impl.filter_data[id].front_normals = impl.front_normals.data();
   impl.filter_data[id].scene_triangle = triangles.data();
   impl.filter_data[id].cutouts = impl.cutouts.get();
@@ -176,7 +189,7 @@ void set_lane(Ray& ray, int lane, const Frame& frame, const ShadowRays& rays, in
   ray.tfar[lane] = rays.pattern.lengths[sample] * rays.radius;
   ray.time[lane] = 0.0f;
   ray.mask[lane] = 0xFFFFFFFFu;
-  ray.id[lane] = 0;
+  ray.id[lane] = frame.excluded_object;  // read by the occlusion filter
   ray.flags[lane] = 0;
 }
 
@@ -241,7 +254,7 @@ void cast_single(RTCScene scene, const ShadowRays& rays, std::span<const Receive
     for (int sample = 0; sample < n; ++sample) {
       const glm::vec3 d = rays.world_direction(frame, sample);
       RTCRay ray{frame.origin.x, frame.origin.y, frame.origin.z, 0.0f, d.x, d.y, d.z, 0.0f,
-                 rays.pattern.lengths[sample] * rays.radius, 0xFFFFFFFFu, 0, 0};
+                 rays.pattern.lengths[sample] * rays.radius, 0xFFFFFFFFu, frame.excluded_object, 0};
       rtcOccluded1(scene, &context, &ray);
       if (ray.tfar == -std::numeric_limits<float>::infinity()) row[sample / 64] |= std::uint64_t{1} << (sample % 64);
     }
@@ -341,12 +354,42 @@ Result<EmbreeScene> EmbreeScene::build(const Scene& scene) {
   return EmbreeScene(std::move(impl));
 }
 
+Result<void> EmbreeScene::refit(std::span<const glm::vec3> vertices) {
+  Impl& impl = *impl_;
+  std::size_t front = 0;
+  for (const unsigned id : {kOneSided, kTwoSided}) {
+    const std::vector<std::uint32_t>& triangles = impl.triangle_of[id];
+    if (triangles.empty()) continue;
+    RTCGeometry geometry = rtcGetGeometry(impl.scene, id);
+    auto* buffer = const_cast<float*>(impl.filter_data[id].vertices);  // Embree's own buffer
+    for (std::size_t k = 0; k < triangles.size(); ++k) {
+      const std::size_t t = triangles[k];
+      for (int j = 0; j < 3; ++j) {
+        buffer[9 * k + 3 * j + 0] = vertices[3 * t + j].x;
+        buffer[9 * k + 3 * j + 1] = vertices[3 * t + j].y;
+        buffer[9 * k + 3 * j + 2] = vertices[3 * t + j].z;
+      }
+      if (id == kOneSided) {
+        impl.front_normals[front++] =
+            glm::cross(vertices[3 * t + 1] - vertices[3 * t], vertices[3 * t + 2] - vertices[3 * t]);
+      }
+    }
+    rtcUpdateGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0);
+    rtcSetGeometryBuildQuality(geometry, RTC_BUILD_QUALITY_REFIT);
+    rtcCommitGeometry(geometry);
+  }
+  rtcCommitScene(impl.scene);
+  const std::lock_guard lock(impl.error_mutex);
+  if (!impl.first_error.empty()) return fail(impl.first_error);
+  return {};
+}
+
 std::optional<EmbreeScene::Hit> EmbreeScene::closest_hit(const glm::vec3& origin, const glm::vec3& direction) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRayHit query{};
   query.ray = RTCRay{origin.x, origin.y, origin.z, 0.0f, direction.x, direction.y, direction.z, 0.0f,
-                     std::numeric_limits<float>::infinity(), 0xFFFFFFFFu, 0, 0};
+                     std::numeric_limits<float>::infinity(), 0xFFFFFFFFu, kNoObject, 0};
   query.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rtcIntersect1(impl_->scene, &context, &query);
   if (query.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;

@@ -54,6 +54,10 @@ class EmbreeScene {
   };
 
   [[nodiscard]] static Result<EmbreeScene> build(const Scene& scene);
+  /// Moves the triangles of the scene build was given to `vertices` (3 per triangle, the
+  /// scene's order; sidedness and objects kept) and refits Embree's BVH
+  /// (RTC_BUILD_QUALITY_REFIT): no rebuild. Not while any thread queries this scene.
+  [[nodiscard]] Result<void> refit(std::span<const glm::vec3> vertices);
   EmbreeScene(EmbreeScene&&) noexcept;
   EmbreeScene& operator=(EmbreeScene&&) noexcept;
   ~EmbreeScene();

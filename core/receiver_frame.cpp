@@ -35,6 +35,7 @@ Frame make_frame(const Receiver& receiver, float origin_offset, float max_tilt) 
   orthonormal_basis(tilted, t1, b1);
   frame.tangent = std::cos(rotation) * t1 + std::sin(rotation) * b1;
   frame.bitangent = glm::cross(frame.normal, frame.tangent);
+  frame.excluded_object = receiver.excluded_object;
   return frame;
 }
 

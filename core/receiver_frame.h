@@ -8,11 +8,17 @@
 
 namespace exao {
 
+/// An object id (Scene::object) that no triangle has: a receiver that excludes nothing.
+inline constexpr std::uint32_t kNoObject = 0xFFFFFFFFu;
+
 /// A point that receives occlusion.
 struct Receiver {
   glm::vec3 position{0.0f};
   glm::vec3 normal{0.0f, 0.0f, 1.0f};  // geometric normal; need not be unit, must be non-zero
   std::uint64_t key = 0;               // picks the jitter: pixel, vertex or texel index, or the caller's
+  /// The triangles of this object (Scene::object) block none of its rays, in every backend: a
+  /// renderer's "not the shaded object itself". kNoObject: every triangle may block.
+  std::uint32_t excluded_object = kNoObject;
 };
 
 /// An orthonormal basis at the rays' origin. Local +Z is the (tilted) normal.
@@ -21,6 +27,7 @@ struct Frame {
   glm::vec3 tangent{1.0f, 0.0f, 0.0f};
   glm::vec3 bitangent{0.0f, 1.0f, 0.0f};
   glm::vec3 normal{0.0f, 0.0f, 1.0f};
+  std::uint32_t excluded_object = kNoObject;  // the receiver's (Receiver::excluded_object)
 
   /// A world point in local coordinates (origin at p').
   [[nodiscard]] glm::vec3 to_local(const glm::vec3& world) const {

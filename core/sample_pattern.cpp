@@ -297,6 +297,41 @@ SamplePattern build_sample_pattern(int count, Falloff falloff, std::uint64_t see
   return pattern;
 }
 
+Result<SamplePattern> make_given_pattern(std::span<const glm::vec3> directions, std::span<const float> lengths) {
+  const int count = static_cast<int>(std::min<std::size_t>(directions.size(), 1u << 20));
+  if (auto ok = check_sample_count(count); !ok) {
+    return fail("directions: N must be a multiple of 32 from 32 to 1024, got " + std::to_string(directions.size()));
+  }
+  if (!lengths.empty() && lengths.size() != directions.size()) {
+    return fail("lengths: must be empty (all 1) or hold one per direction (" + std::to_string(directions.size()) +
+                "), holds " + std::to_string(lengths.size()));
+  }
+  SamplePattern pattern;
+  pattern.count = count;
+  pattern.falloff = Falloff::Constant;  // the lengths are the caller's; only the table's cache reads it
+  pattern.seed = 0;
+  for (int i = 0; i < count; ++i) {
+    const glm::vec3 d = directions[static_cast<std::size_t>(i)];
+    const float length2 = glm::dot(d, d);
+    if (!(std::isfinite(d.x) && std::isfinite(d.y) && std::isfinite(d.z) && std::isfinite(length2) && length2 > 0.0f)) {
+      return fail("directions[" + std::to_string(i) + "]: must be finite and non-zero");
+    }
+    const glm::vec3 unit = glm::normalize(d);
+    if (!(unit.z > 0.0f)) {
+      return fail("directions[" + std::to_string(i) + "]: z must be > 0 (above the tangent plane), got " +
+                  std::to_string(d.z));
+    }
+    const float length = lengths.empty() ? 1.0f : lengths[static_cast<std::size_t>(i)];
+    if (!(length > 0.0f && length <= 1.0f)) {
+      return fail("lengths[" + std::to_string(i) + "]: must be in (0, 1], got " + std::to_string(length));
+    }
+    pattern.directions.push_back(unit);
+    pattern.lengths.push_back(length);
+  }
+  finish(pattern);
+  return pattern;
+}
+
 Result<void> save_sample_pattern(const SamplePattern& pattern, const std::string& path) {
   return write_atomically(path, [&](const std::string& temp) -> Result<void> {
     std::ofstream out(temp);

@@ -3,6 +3,7 @@
 // well-stratified directions, each with a length drawn from the falloff.
 
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -56,6 +57,17 @@ inline constexpr int kSampleCluster = 16;
 /// The same without the process-wide cache that make_sample_pattern keeps; `count` must pass
 /// check_sample_count. For tests of determinism.
 [[nodiscard]] SamplePattern build_sample_pattern(int count, Falloff falloff, std::uint64_t seed);
+
+/// A pattern of the caller's own directions (the public API's QuerySettings::directions)
+/// instead of the generated one: N = directions.size() (check_sample_count), each direction
+/// finite and non-zero, normalised here, with z > 0 after normalising (above the receiver's
+/// tangent plane; the frame's tilt stays below the smallest elevation, as for the generated
+/// pattern); lengths empty (all 1) or N values in (0, 1]. The order is the caller's: bit i is
+/// direction i. The masks are exact in any order; they are fastest when every run of
+/// kSampleCluster consecutive directions is a compact cone (lut/sample_clusters.h), as
+/// make_sample_pattern orders its own. Errors name "directions" or "lengths" and the index.
+[[nodiscard]] Result<SamplePattern> make_given_pattern(std::span<const glm::vec3> directions,
+                                                       std::span<const float> lengths);
 
 /// Saves as text: a header line, then one "x y z length" line per sample with enough digits that
 /// loading gives back the same floats. Written to a temporary file, then renamed.

@@ -33,6 +33,10 @@ struct Scene {
   std::vector<glm::vec3> vertices;
   std::vector<std::uint8_t> two_sided;  // per triangle: 1 blocks from both sides
   std::vector<std::int32_t> material;   // per triangle: material index, -1 when none
+  /// Per triangle, or empty (every triangle object 0): the object it belongs to (the public
+  /// API's mesh or instance index), which a receiver can exclude (Receiver::excluded_object).
+  /// Never kNoObject.
+  std::vector<std::uint32_t> object;
   std::vector<Camera> cameras;          // cameras the file defines, in file order
   /// Per material index: opacity in [0, 1] for methods that weigh occluders by it (A-buffer AO,
   /// seed 004). glTF: BLEND is baseColorFactor's alpha, MASK is 1 when that alpha reaches

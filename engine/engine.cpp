@@ -48,8 +48,14 @@ struct Engine::Impl {
   // batch with receivers farther out uses the r' of its farthest). Each engine is built once,
   // on first use (the rays' pattern with the new lengths, the same mode, table resolution and
   // instruction set).
-  glm::dvec3 occluder_lo{0.0}, occluder_hi{0.0};
-  int base_exponent = 0;  // 2^base_exponent >= twice the occluders' diagonal
+  // The occluders' box is read from the geometry at every query, so a refit that grows it
+  // (Geometry::refit) moves reach and r' with it; the engines at r' depend on the rays only.
+  [[nodiscard]] int base_exponent() const {  // 2^base_exponent >= twice the occluders' diagonal
+    const Bounds& occluders = geometry->occluder_bounds();
+    int exponent = 0;
+    (void)std::frexp(2.0 * glm::length(glm::dvec3(occluders.hi) - glm::dvec3(occluders.lo)) * (1.0 + 1e-4), &exponent);
+    return exponent;
+  }
   struct ClampedMasks {
     std::once_flag once;
     std::optional<lut::MaskEngine> engine;
@@ -57,12 +63,13 @@ struct Engine::Impl {
   static constexpr int kMinExponent = -160;  // below any float: 2^-149 is the smallest
   mutable std::array<ClampedMasks, 320> clamped;  // by exponent - kMinExponent
 
-  // The distance from p' (within origin_offset of the receiver's position) to the farthest
+  // The distance from p' (within its offset of the receiver's position) to the farthest
   // corner of the occluders' box, rounded up.
   [[nodiscard]] double reach(const Receiver& receiver) const {
     const glm::dvec3 p(receiver.position);
-    const glm::dvec3 far = glm::max(glm::abs(p - occluder_lo), glm::abs(p - occluder_hi));
-    return (glm::length(far) + static_cast<double>(rays.origin_offset)) * (1.0 + 1e-4);
+    const Bounds& occluders = geometry->occluder_bounds();
+    const glm::dvec3 far = glm::max(glm::abs(p - glm::dvec3(occluders.lo)), glm::abs(p - glm::dvec3(occluders.hi)));
+    return (glm::length(far) + static_cast<double>(rays.offset_at(receiver.position))) * (1.0 + 1e-4);
   }
 
   // The mask engine for receivers at most `reach` from every occluder: the engine at r, or the
@@ -70,7 +77,7 @@ struct Engine::Impl {
   [[nodiscard]] const lut::MaskEngine& masks_for(double reach) const {
     int exponent = 0;
     (void)std::frexp(reach, &exponent);  // reach < 2^exponent
-    exponent = std::max(exponent, base_exponent);
+    exponent = std::max(exponent, base_exponent());
     if (!(reach > 0.0) || exponent >= kMinExponent + static_cast<int>(clamped.size()) ||
         std::ldexp(1.0, exponent) >= static_cast<double>(rays.radius)) {
       return *masks;
@@ -193,6 +200,10 @@ Result<Engine> Engine::build(std::shared_ptr<const Geometry> geometry, const Opt
   if (auto ok = check_options(options); !ok) return std::unexpected(ok.error());
   if (auto ok = check_serves(options, receivers); !ok) return std::unexpected(ok.error());
   EXAO_CHECK(geometry != nullptr);
+  if (options.offset_default == OffsetDefault::PointScale && !options.origin_offset && options.method == Method::Raster) {
+    // The raster volumes are grown by one offset for every pixel (raster/influence_volume.h).
+    return fail("origin_offset: the raster method needs one offset for all pixels: give one, or the scene's default");
+  }
   if (!geometry->serves(options.method)) {
     return fail(std::string("method: the geometry was not prepared for ") + method_name(options.method));
   }
@@ -210,10 +221,13 @@ Result<Engine> Engine::build(std::shared_ptr<const Geometry> geometry, const Opt
   // Defaults resolved once against the scene's size (engine/options.h).
   const float diagonal = impl->geometry->bounds().diagonal();
   const float radius = options.radius.resolve(diagonal);
-  const float offset = options.origin_offset.value_or(kDefaultOffsetFraction * diagonal);
+  const bool point_scale = !options.origin_offset && options.offset_default == OffsetDefault::PointScale;
+  const float offset = options.origin_offset.value_or(point_scale ? kPointOffsetFloor : kDefaultOffsetFraction * diagonal);
   Result<void> built;
   impl->arena->execute([&] {
-    Result<SamplePattern> pattern = make_sample_pattern(options.samples, options.falloff, options.pattern_seed);
+    Result<SamplePattern> pattern = options.given_pattern
+                                        ? Result<SamplePattern>(*options.given_pattern)
+                                        : make_sample_pattern(options.samples, options.falloff, options.pattern_seed);
     if (!pattern) {
       built = std::unexpected(pattern.error());
       return;
@@ -224,6 +238,7 @@ Result<Engine> Engine::build(std::shared_ptr<const Geometry> geometry, const Opt
       return;
     }
     impl->rays = std::move(*rays);
+    if (point_scale) impl->rays.offset_per_magnitude = kPointOffsetFraction;
     if (options.method == Method::Embree) return;
     Result<lut::MaskEngine> masks = lut::MaskEngine::build(impl->rays, options.masks, options.table_resolution, options.isa);
     if (!masks) {
@@ -232,10 +247,6 @@ Result<Engine> Engine::build(std::shared_ptr<const Geometry> geometry, const Opt
     }
     impl->masks = std::move(*masks);
   });
-  const Bounds& occluders = impl->geometry->occluder_bounds();
-  impl->occluder_lo = glm::dvec3(occluders.lo);
-  impl->occluder_hi = glm::dvec3(occluders.hi);
-  (void)std::frexp(2.0 * glm::length(impl->occluder_hi - impl->occluder_lo) * (1.0 + 1e-4), &impl->base_exponent);
   if (!built) return std::unexpected(built.error());
   return Engine(std::move(impl));
 }
@@ -246,6 +257,15 @@ const lut::MaskEngine* Engine::mask_engine() const { return impl_->masks ? &*imp
 const Geometry& Engine::geometry() const { return *impl_->geometry; }
 std::shared_ptr<const Geometry> Engine::shared_geometry() const { return impl_->geometry; }
 int Engine::threads() const { return impl_->arena->max_concurrency(); }
+
+Result<void> Engine::refit(std::span<const glm::vec3> vertices) {
+  // Geometry::build makes every geometry as a non-const object; engines share it read-only, and
+  // refit is its one writer (no query may run meanwhile: engine.h).
+  const std::shared_ptr<Geometry> geometry = std::const_pointer_cast<Geometry>(impl_->geometry);
+  Result<void> done;
+  impl_->arena->execute([&] { done = geometry->refit(vertices); });
+  return done;
+}
 
 Result<void> Engine::run(std::span<const Receiver> receivers, const Outputs& outputs, const RunOptions& run) const {
   const Impl& impl = *impl_;

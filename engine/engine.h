@@ -134,6 +134,12 @@ class Engine {
   /// Worker threads of the engine's arena.
   [[nodiscard]] int threads() const;
 
+  /// Moves the geometry's triangles (Geometry::refit: 3 vertices per triangle, the scene's
+  /// order) for this engine and every other engine over the same geometry. The radius and
+  /// offset resolved at build stay as they are. No query of any of those engines may run
+  /// meanwhile.
+  [[nodiscard]] Result<void> refit(std::span<const glm::vec3> vertices);
+
   /// AO, counts and/or masks of `receivers` (Receivers::Points). Every receiver must have a
   /// finite position and a normal that can be normalised (the caller checks input). Fails
   /// when an output's size does not match.

@@ -1,6 +1,7 @@
 #include "engine/geometry.h"
 
 #include <algorithm>
+#include <string>
 
 #include "core/cutouts.h"
 
@@ -44,6 +45,7 @@ Result<std::shared_ptr<const Geometry>> Geometry::build(const Scene& scene, std:
   }
   geometry->has_cutouts_ = source->cutouts != nullptr;
   geometry->bounds_ = source->bounds();
+  geometry->ground_triangles_ = source->ground_triangles;
   for (const glm::vec3& v : source->vertices) geometry->occluder_bounds_.extend(v);
   geometry->triangle_count_ = source->triangle_count();
   geometry->two_sided_count_ = exao::two_sided_count(*source);
@@ -79,6 +81,32 @@ Result<std::shared_ptr<const Geometry>> Geometry::build(const Scene& scene, std:
   if (!keep_scene) geometry->scene_.reset();
   if (raster) geometry->lod_cache_ = std::make_unique<LodCache>(*geometry->scene_);
   return std::shared_ptr<const Geometry>(std::move(geometry));
+}
+
+Result<void> Geometry::refit(std::span<const glm::vec3> vertices) {
+  if (vertices.size() != 3 * triangle_count_) {
+    return fail("refit: " + std::to_string(vertices.size()) + " vertices for " + std::to_string(triangle_count_) +
+                " triangles (3 each)");
+  }
+  if (embree_) {
+    if (auto ok = embree_->refit(vertices); !ok) return ok;
+  }
+  if (scene_) {
+    scene_->vertices.assign(vertices.begin(), vertices.end());
+    if (lod_cache_) lod_cache_ = std::make_unique<LodCache>(*scene_);
+  }
+  if (triangles_) triangles_->set_vertices(vertices);
+  if (bvh_) {
+    bvh_->refit(vertices);  // its packed triangles keep sidedness, cut-outs and objects
+  }
+  bounds_ = Bounds{};
+  occluder_bounds_ = Bounds{};
+  const std::size_t model = 3 * (triangle_count_ - std::min(ground_triangles_, triangle_count_));
+  for (std::size_t i = 0; i < vertices.size(); ++i) {
+    if (i < model) bounds_.extend(vertices[i]);
+    occluder_bounds_.extend(vertices[i]);
+  }
+  return {};
 }
 
 }  // namespace exao::engine

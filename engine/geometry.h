@@ -58,6 +58,15 @@ class Geometry {
   /// Whether this geometry has what `method` needs.
   [[nodiscard]] bool serves(Method method) const;
 
+  /// Refit after a deformation: every triangle of the scene build was given (same count and
+  /// order; sidedness and objects kept) moved to `vertices`, 3 per triangle. Embree refits its
+  /// BVH, the triangle sets and spheres are recomputed, the BVH keeps its topology with new
+  /// boxes and spheres (bvh::Bvh::refit), the bounds follow, and the raster levels of detail
+  /// are dropped (built again on first use). Masks and rays then equal a fresh build's bit for
+  /// bit. Not while any engine over this geometry runs a query. Errors: a count that does not
+  /// match; Embree's.
+  [[nodiscard]] Result<void> refit(std::span<const glm::vec3> vertices);
+
  private:
   std::unique_ptr<EmbreeScene> embree_;
   std::unique_ptr<lut::TriangleSet> triangles_;
@@ -65,6 +74,7 @@ class Geometry {
   std::optional<Scene> scene_;
   Bounds bounds_;
   Bounds occluder_bounds_;
+  std::size_t ground_triangles_ = 0;  // the scene's last ones, left out of bounds_
   std::size_t triangle_count_ = 0;
   std::size_t two_sided_count_ = 0;
   Sidedness sidedness_ = Sidedness::Auto;

@@ -55,6 +55,10 @@ int max_threads() {
 
 Result<void> check_options(const Options& o) {
   if (auto ok = check_sample_count(o.samples); !ok) return ok;
+  if (o.given_pattern && o.given_pattern->count != o.samples) {
+    return fail("samples: must equal the given pattern's " + number(o.given_pattern->count) + " directions, got " +
+                number(o.samples));
+  }
   if (!in_range(o.falloff, Falloff::Quadratic)) return fail("falloff: not a falloff, got " + number(static_cast<int>(o.falloff)));
   if (!in_range(o.sidedness, Sidedness::Two)) return fail("sidedness: not a sidedness, got " + number(static_cast<int>(o.sidedness)));
   if (!in_range(o.method, Method::Auto)) return fail("method: not a method, got " + number(static_cast<int>(o.method)));

@@ -8,6 +8,7 @@
 // into "options.<name>"; no library error names a command-line flag.
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -34,6 +35,9 @@ enum class Method { Embree, Brute, Bvh, Raster, Auto };
 /// "auto", "embree", "brute", "bvh" or "raster"; the error names the option "method".
 [[nodiscard]] Result<Method> parse_method(const std::string& name);
 
+/// Where the default origin offset comes from (Options::offset_default).
+enum class OffsetDefault { SceneDiagonal, PointScale };
+
 /// A length in world units, or a percentage of the scene's bounding-box diagonal.
 struct Length {
   float value = 0.0f;
@@ -53,9 +57,15 @@ struct Options {
   int samples = 128;
   Falloff falloff = Falloff::Constant;
   std::uint64_t pattern_seed = kDefaultPatternSeed;
-  /// eps: rays start at p + eps n, world units, finite and >= 0. nullopt: 1e-4 of the diagonal
-  /// (kDefaultOffsetFraction, core/shadow_rays.h).
+  /// The caller's own directions (make_given_pattern) instead of the generated pattern; then
+  /// samples must equal its count, and falloff and pattern_seed are not used. nullptr: generated.
+  std::shared_ptr<const SamplePattern> given_pattern;
+  /// eps: rays start at p + eps n, world units, finite and >= 0. nullopt: offset_default says.
   std::optional<float> origin_offset;
+  /// The offset when origin_offset is nullopt: 1e-4 of the scene's diagonal (the exao program,
+  /// DESIGN.md section 1), or 1e-4 of each point's largest coordinate magnitude, at least 1e-6
+  /// (the public API: core/shadow_rays.h, kPointOffsetFraction).
+  OffsetDefault offset_default = OffsetDefault::SceneDiagonal;
   /// Auto: as the scene says (glTF doubleSided; other formats two-sided); One or Two overrides.
   Sidedness sidedness = Sidedness::Auto;
   Method method = Method::Auto;

@@ -6,20 +6,30 @@
 // only the points the camera sees directly, so it cannot shade the other two kinds.
 //
 // The scene is exao's built-in room with two mirrors added by this program: a mirror on the
-// right wall and a mirror ball on the floor. Uses only the public API (exao/exao.hpp), Embree
-// and libpng.
+// right wall and a mirror ball on the floor, and a row of pebbles: one small mesh placed many
+// times, as Embree instances in the renderer's tracer and as exao::api::Instance in exao (no
+// copy by the renderer). Uses only the public API (exao/exao.hpp), Embree and libpng.
 //
 //     exao_renderer [-o renderer.png] [-W 960] [-H 540] [--spp 4] [--samples 64] [--radius 1]
-//                   [--object-radius 0.4]
+//                   [--object-radius 0.4] [--measure-ao]
 //
 // --radius is the AO distance of the room's floor, walls and ceiling, --object-radius that of
-// the objects in it (a per-material AO distance: one engine, and one derived from it).
+// the objects in it (a per-material AO distance: one engine, and one derived from it with
+// Engine::with_settings, a per-call setting over the same scene).
+//
+// --measure-ao renders no image: it collects the diffuse shading points of the camera's paths
+// (one per pixel, mirrors followed) and times their AO pass three ways at --samples rays:
+// exao's batch query, exao's single queries from the renderer's threads, and the renderer's
+// own loop of rtcOccluded16 (16 cosine-weighted rays of a point per packet, the per-material
+// distance as tfar). scripts/renderer-ao.sh runs it at N = 64 and 256.
 
 #include <embree3/rtcore.h>
 #include <png.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -52,11 +62,32 @@ struct Geometry {
   std::size_t first_ball = 0;         // ... and from here on the mirror ball's
   Vec3 ball_centre;
   exao::api::Camera camera;
+  // The pebble: one mesh (a soup, model units, faces outward) and where it is placed: row-major
+  // 3x4 matrices, uniform scale and translation (so a model normal is a world normal).
+  std::vector<float> pebble;
+  std::vector<std::array<float, 12>> pebble_at;
 };
 
 void add_triangle(Geometry& g, Vec3 a, Vec3 b, Vec3 c) {
   g.positions.insert(g.positions.end(), {a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z});
   g.two_sided.push_back(0);  // one-sided, front faces counter-clockwise: they face the room
+}
+
+// A UV sphere, faces outward, into a soup of 9 floats per triangle.
+void add_sphere(std::vector<float>& out, Vec3 centre, Vec3 radii, int slices, int stacks) {
+  const auto point = [&](int i, int j) {
+    const float phi = 6.2831853f * static_cast<float>(i) / static_cast<float>(slices);
+    const float theta = 3.1415927f * static_cast<float>(j) / static_cast<float>(stacks);
+    return centre + radii * Vec3{std::sin(theta) * std::cos(phi), std::cos(theta), -std::sin(theta) * std::sin(phi)};
+  };
+  const auto put = [&](Vec3 a, Vec3 b, Vec3 c) { out.insert(out.end(), {a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z}); };
+  for (int j = 0; j < stacks; ++j) {
+    for (int i = 0; i < slices; ++i) {
+      const Vec3 a = point(i, j), b = point(i, j + 1), c = point(i + 1, j + 1), d = point(i + 1, j);
+      if (j > 0) put(a, b, d);
+      if (j < stacks - 1) put(d, b, c);
+    }
+  }
 }
 
 // A UV sphere, faces outward.
@@ -95,6 +126,14 @@ Geometry make_scene() {
   g.first_ball = g.two_sided.size();
   g.ball_centre = {-1.2f, 0.7f, 1.3f};
   add_sphere(g, g.ball_centre, 0.7f, 64, 32);
+  // Pebbles: a flattened sphere resting on its base (model y in [0, 0.5]), placed along the
+  // front of the floor, bigger and smaller.
+  add_sphere(g.pebble, {0.0f, 0.25f, 0.0f}, {0.5f, 0.25f, 0.4f}, 24, 12);
+  for (int i = 0; i < 9; ++i) {
+    const float s = 0.35f + 0.12f * static_cast<float>(i % 3);
+    const float px = -3.6f + 0.85f * static_cast<float>(i), pz = 2.6f + 0.35f * static_cast<float>(i % 2);
+    g.pebble_at.push_back({s, 0, 0, px, 0, s, 0, 0.0f, 0, 0, s, pz});
+  }
   return g;
 }
 
@@ -116,18 +155,43 @@ struct Tracer {
     std::memcpy(v, g.positions.data(), g.positions.size() * sizeof(float));
     for (unsigned i = 0; i < 3 * n; ++i) index[i] = i;
     rtcCommitGeometry(mesh);
-    rtcAttachGeometry(scene, mesh);
+    rtcAttachGeometryByID(scene, mesh, 0);
     rtcReleaseGeometry(mesh);
+    // The pebble once, in a scene of its own, placed by Embree instances (geometry 1, 2, ...).
+    pebble = rtcNewScene(device);
+    const std::size_t m = g.pebble.size() / 9;
+    RTCGeometry shape = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    auto* pv = static_cast<float*>(rtcSetNewGeometryBuffer(shape, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                           3 * sizeof(float), 3 * m));
+    auto* pi = static_cast<unsigned*>(rtcSetNewGeometryBuffer(shape, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                              3 * sizeof(unsigned), m));
+    std::memcpy(pv, g.pebble.data(), g.pebble.size() * sizeof(float));
+    for (unsigned i = 0; i < 3 * m; ++i) pi[i] = i;
+    rtcCommitGeometry(shape);
+    rtcAttachGeometry(pebble, shape);
+    rtcReleaseGeometry(shape);
+    rtcCommitScene(pebble);
+    for (std::size_t k = 0; k < g.pebble_at.size(); ++k) {
+      RTCGeometry instance = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_INSTANCE);
+      rtcSetGeometryInstancedScene(instance, pebble);
+      rtcSetGeometryTransform(instance, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, g.pebble_at[k].data());
+      rtcCommitGeometry(instance);
+      rtcAttachGeometryByID(scene, instance, static_cast<unsigned>(k + 1));
+      rtcReleaseGeometry(instance);
+    }
     rtcCommitScene(scene);
   }
   ~Tracer() {
     rtcReleaseScene(scene);
+    rtcReleaseScene(pebble);
     rtcReleaseDevice(device);
   }
+  RTCScene pebble = nullptr;
 
   struct Hit {
     float t;
-    unsigned triangle;
+    unsigned triangle;      // of the main mesh, or of the pebble when instance >= 0
+    int instance = -1;      // which pebble, or -1
   };
   // Nearest hit along o + t d, t in (near, far); triangle = RTC_INVALID_GEOMETRY_ID on a miss.
   Hit intersect(Vec3 o, Vec3 d, float near, float far) const {
@@ -137,7 +201,9 @@ struct Tracer {
     q.ray = {o.x, o.y, o.z, near, d.x, d.y, d.z, 0.0f, far, 0xFFFFFFFFu, 0, 0};
     q.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(scene, &context, &q);
-    return {q.ray.tfar, q.hit.geomID == RTC_INVALID_GEOMETRY_ID ? RTC_INVALID_GEOMETRY_ID : q.hit.primID};
+    if (q.hit.geomID == RTC_INVALID_GEOMETRY_ID) return {q.ray.tfar, RTC_INVALID_GEOMETRY_ID, -1};
+    if (q.hit.instID[0] != RTC_INVALID_GEOMETRY_ID) return {q.ray.tfar, q.hit.primID, static_cast<int>(q.hit.instID[0]) - 1};
+    return {q.ray.tfar, q.hit.primID, -1};
   }
   bool occluded(Vec3 o, Vec3 d, float far) const {
     RTCIntersectContext context;
@@ -170,6 +236,11 @@ struct Renderer {
   Vec3 face_normal(unsigned t) const {
     const Vec3 a = vertex(t, 0);
     return normalize(cross(vertex(t, 1) - a, vertex(t, 2) - a));
+  }
+  // A pebble triangle's normal: the model's (the placements scale uniformly, no rotation).
+  Vec3 pebble_normal(unsigned t) const {
+    const float* p = g.pebble.data() + 9 * t;
+    return normalize(cross(Vec3{p[3] - p[0], p[4] - p[1], p[5] - p[2]}, Vec3{p[6] - p[0], p[7] - p[1], p[8] - p[2]}));
   }
 
   // Whether a point is on the room's shell (floor, ceiling, walls) rather than an object in it.
@@ -204,29 +275,44 @@ struct Renderer {
     return static_cast<float>((x ^ (x >> 31)) >> 40) * (1.0f / 16777216.0f);
   }
 
-  // Radiance arriving along o + t d. `key` identifies the path; depth 0 is the camera ray.
-  Vec3 radiance(Vec3 o, Vec3 d, std::uint64_t key, int depth) const {
+  // The first diffuse point along o + t d, mirrors followed: false when the path leaves.
+  struct Diffuse {
+    Vec3 p, n;
+    bool pebble = false;
+  };
+  bool first_diffuse(Vec3 o, Vec3 d, Diffuse& out) const {
     for (int mirror_bounces = 0; mirror_bounces < 6; ++mirror_bounces) {
       const Tracer::Hit hit = tracer.intersect(o, d, 1e-4f, 1e30f);
-      if (hit.triangle == RTC_INVALID_GEOMETRY_ID) return {0, 0, 0};
+      if (hit.triangle == RTC_INVALID_GEOMETRY_ID) return false;
       const Vec3 p = o + hit.t * d;
+      const bool mirror = hit.instance < 0 && hit.triangle >= g.first_mirror;
       // The ball reflects with the true sphere's normal (smooth), everything else is flat.
-      Vec3 n = hit.triangle >= g.first_ball ? normalize(p - g.ball_centre) : face_normal(hit.triangle);
+      Vec3 n = hit.instance >= 0               ? pebble_normal(hit.triangle)
+               : hit.triangle >= g.first_ball ? normalize(p - g.ball_centre)
+                                               : face_normal(hit.triangle);
       if (dot(n, d) > 0.0f) n = -1.0f * n;  // the side the ray arrives from
-      if (hit.triangle >= g.first_mirror) {  // a mirror: follow the reflection
+      if (mirror) {
         o = p;
         d = d - 2.0f * dot(d, n) * n;
         continue;
       }
-      return shade(p, n, key, depth);
+      out = {p, n, hit.instance >= 0};
+      return true;
     }
-    return {0, 0, 0};
+    return false;
+  }
+
+  // Radiance arriving along o + t d. `key` identifies the path; depth 0 is the camera ray.
+  Vec3 radiance(Vec3 o, Vec3 d, std::uint64_t key, int depth) const {
+    Diffuse hit;
+    if (!first_diffuse(o, d, hit)) return {0, 0, 0};
+    return shade(hit.p, hit.n, hit.pebble, key, depth);
   }
 
   // A diffuse point: direct light with a shadow ray, ambient light times exao's AO, and (from
   // the camera's points only) one diffuse bounce, whose points get their own AO too.
-  Vec3 shade(Vec3 p, Vec3 n, std::uint64_t key, int depth) const {
-    const Vec3 colour = albedo(p, n);
+  Vec3 shade(Vec3 p, Vec3 n, bool pebble, std::uint64_t key, int depth) const {
+    const Vec3 colour = pebble ? Vec3{0.55f, 0.52f, 0.48f} : albedo(p, n);
     const Vec3 lift = p + 1e-4f * n;
     Vec3 to_light = light - p;
     const float distance2 = std::max(dot(to_light, to_light), 0.25f);  // no hot spot under the light
@@ -237,7 +323,7 @@ struct Renderer {
       direct = light_power * cosine / (4.0f * 3.1415927f * distance2) * 3.1415927f;
     }
     // --- exao: the AO at this shading point, in one call (any thread, any point). ---
-    const exao::api::Result<float> occlusion = (on_shell(p, n) ? ao : object_ao).ao(p, n, key);
+    const exao::api::Result<float> occlusion = (!pebble && on_shell(p, n) ? ao : object_ao).ao(p, n, key);
     if (!occlusion) ++ao_failures;
     const float open = occlusion.value_or(1.0f);
     Vec3 light_in = {direct + ambient * open, direct + ambient * open, direct + ambient * open};
@@ -271,6 +357,126 @@ struct Renderer {
     return (1.0f / static_cast<float>(spp)) * sum;
   }
 };
+
+// --- The AO pass, measured -------------------------------------------------------------------
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+// Runs body(i) for i in [0, count) on `threads` threads, in chunks; returns the wall time.
+template <class Body>
+double parallel_time(std::size_t count, unsigned threads, const Body& body) {
+  std::atomic<std::size_t> next{0};
+  const auto start = Clock::now();
+  std::vector<std::thread> workers;
+  for (unsigned w = 0; w < threads; ++w) {
+    workers.emplace_back([&] {
+      for (std::size_t first = next.fetch_add(64); first < count; first = next.fetch_add(64)) {
+        for (std::size_t i = first; i < std::min(count, first + 64); ++i) body(i);
+      }
+    });
+  }
+  for (std::thread& worker : workers) worker.join();
+  return seconds_since(start);
+}
+
+// The renderer's own AO loop: N cosine-weighted rays about n from its own sampler, 16 per
+// rtcOccluded16 packet, tfar the material's AO distance. Returns the unblocked fraction.
+float embree_ao(const Tracer& tracer, Vec3 p, Vec3 n, float distance, int samples, std::uint64_t key) {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  alignas(64) RTCRay16 packet;
+  alignas(64) int valid[16];
+  const Vec3 o = p + 1e-4f * n;
+  int blocked = 0;
+  for (int first = 0; first < samples; first += 16) {
+    for (int l = 0; l < 16; ++l) {
+      const std::uint64_t k = key * 1024 + static_cast<std::uint64_t>(first + l);
+      const Vec3 d = Renderer::cosine_direction(n, Renderer::hash_float(k), Renderer::hash_float(~k));
+      packet.org_x[l] = o.x, packet.org_y[l] = o.y, packet.org_z[l] = o.z;
+      packet.dir_x[l] = d.x, packet.dir_y[l] = d.y, packet.dir_z[l] = d.z;
+      packet.tnear[l] = 0.0f, packet.tfar[l] = distance, packet.time[l] = 0.0f;
+      packet.mask[l] = 0xFFFFFFFFu, packet.id[l] = 0, packet.flags[l] = 0;
+      valid[l] = -1;
+    }
+    rtcOccluded16(valid, tracer.scene, &context, &packet);
+    for (int l = 0; l < 16; ++l) blocked += packet.tfar[l] < 0.0f ? 1 : 0;
+  }
+  return 1.0f - static_cast<float>(blocked) / static_cast<float>(samples);
+}
+
+int measure_ao(const Renderer& renderer, const Tracer& tracer, float radius, float object_radius, int samples) {
+  // The AO points of the camera's paths: one diffuse point per pixel (mirrors followed).
+  struct Point {
+    exao::api::Receiver receiver;
+    bool object;
+  };
+  std::vector<Point> points;
+  const exao::api::Camera& c = renderer.g.camera;
+  const Vec3 right = cross(c.forward, c.up);
+  const float tan_half = std::tan(0.5f * c.yfov);
+  const float aspect = static_cast<float>(renderer.width) / static_cast<float>(renderer.height);
+  for (int y = 0; y < renderer.height; ++y) {
+    for (int x = 0; x < renderer.width; ++x) {
+      const float sx = (2.0f * (static_cast<float>(x) + 0.5f) / static_cast<float>(renderer.width) - 1.0f) * tan_half * aspect;
+      const float sy = (1.0f - 2.0f * (static_cast<float>(y) + 0.5f) / static_cast<float>(renderer.height)) * tan_half;
+      Renderer::Diffuse hit;
+      if (!renderer.first_diffuse(c.eye, normalize(c.forward + sx * right + sy * c.up), hit)) continue;
+      const std::uint64_t key = static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(renderer.width) + static_cast<std::uint64_t>(x);
+      points.push_back({{hit.p, hit.n, key}, hit.pebble || !Renderer::on_shell(hit.p, hit.n)});
+    }
+  }
+  std::vector<exao::api::Receiver> shell, objects;
+  for (const Point& p : points) (p.object ? objects : shell).push_back(p.receiver);
+  const unsigned threads = std::max(1u, std::thread::hardware_concurrency());
+
+  // 1. exao's batch queries: one per material's engine.
+  std::vector<float> shell_ao(shell.size()), object_ao(objects.size());
+  const auto batch = [&] {
+    const auto start = Clock::now();
+    const exao::api::Status a = renderer.ao.ao(shell, shell_ao);
+    const exao::api::Status b = renderer.object_ao.ao(objects, object_ao);
+    if (!a || !b) std::fprintf(stderr, "exao_renderer: a batch failed\n");
+    return seconds_since(start);
+  };
+  // 2. exao's single queries from the renderer's threads, as shade() asks.
+  std::vector<float> single(points.size());
+  const auto singles = [&] {
+    return parallel_time(points.size(), threads, [&](std::size_t i) {
+      const Point& p = points[i];
+      single[i] = (p.object ? renderer.object_ao : renderer.ao).ao(p.receiver).value_or(1.0f);
+    });
+  };
+  // 3. The renderer's own rtcOccluded16 loop.
+  std::vector<float> own(points.size());
+  const auto embree = [&] {
+    return parallel_time(points.size(), threads, [&](std::size_t i) {
+      const Point& p = points[i];
+      own[i] = embree_ao(tracer, p.receiver.position, p.receiver.normal, p.object ? object_radius : radius, samples,
+                         p.receiver.key);
+    });
+  };
+  // Best of three runs each, interleaved, after one warm-up run of each.
+  (void)batch(), (void)singles(), (void)embree();
+  double t_batch = 1e30, t_single = 1e30, t_embree = 1e30;
+  for (int run = 0; run < 3; ++run) {
+    t_batch = std::min(t_batch, batch());
+    t_single = std::min(t_single, singles());
+    t_embree = std::min(t_embree, embree());
+  }
+  double mean_exao = 0.0, mean_own = 0.0;
+  for (const float v : single) mean_exao += v;
+  for (const float v : own) mean_own += v;
+  const auto n = static_cast<double>(points.size());
+  std::printf("points %zu (shell %zu, objects %zu) N %d simd %s threads %u\n", points.size(), shell.size(),
+              objects.size(), samples, renderer.ao.info().simd, threads);
+  std::printf("exao_batch_s %.4f exao_single_s %.4f rtcOccluded16_s %.4f\n", t_batch, t_single, t_embree);
+  std::printf("ratio_batch %.2f ratio_single %.2f (rtcOccluded16 time / exao time)\n", t_embree / t_batch,
+              t_embree / t_single);
+  std::printf("mean_ao exao %.4f own_loop %.4f\n", mean_exao / n, mean_own / n);
+  return 0;
+}
 
 // --- Output ----------------------------------------------------------------------------------
 
@@ -309,8 +515,15 @@ int main(int argc, char** argv) {
   std::string output = "renderer.png";
   int width = 960, height = 540, spp = 4, samples = 64;
   float radius = 1.0f, object_radius = 0.4f;
-  for (int i = 1; i + 1 < argc; i += 2) {
-    const std::string flag = argv[i], value = argv[i + 1];
+  bool measure = false;
+  for (int i = 1; i < argc; i += 2) {
+    const std::string flag = argv[i];
+    if (flag == "--measure-ao") {
+      measure = true;
+      --i;
+      continue;
+    }
+    const std::string value = i + 1 < argc ? argv[i + 1] : "";
     if (flag == "-o") output = value;
     else if (flag == "-W") width = std::atoi(value.c_str());
     else if (flag == "-H") height = std::atoi(value.c_str());
@@ -321,7 +534,7 @@ int main(int argc, char** argv) {
     else {
       std::fprintf(stderr,
                    "usage: exao_renderer [-o out.png] [-W 960] [-H 540] [--spp 4] [--samples 64] [--radius 1] "
-                   "[--object-radius 0.4]\n");
+                   "[--object-radius 0.4] [--measure-ao]\n");
       return 2;
     }
   }
@@ -333,16 +546,22 @@ int main(int argc, char** argv) {
   const Geometry g = make_scene();
   const Tracer tracer(g);
 
-  // exao: one engine for the whole scene, mirrors included (they occlude too), built once.
-  exao::api::Mesh mesh;
-  mesh.vertices = g.positions.data();
-  mesh.vertex_count = g.positions.size() / 3;
-  mesh.triangle_count = g.two_sided.size();
-  mesh.two_sided = g.two_sided.data();
+  // exao: one engine for the whole scene, mirrors included (they occlude too), built once. The
+  // pebbles are instances of one mesh, read from the renderer's own arrays (nothing copied).
+  exao::api::Mesh meshes[2];
+  meshes[0].vertices = g.positions.data();
+  meshes[0].vertex_count = g.positions.size() / 3;
+  meshes[0].triangle_count = g.two_sided.size();
+  meshes[0].two_sided = g.two_sided.data();
+  meshes[1].vertices = g.pebble.data();
+  meshes[1].vertex_count = g.pebble.size() / 3;
+  meshes[1].triangle_count = g.pebble.size() / 9;  // two-sided (nullptr), like the tracer's
+  std::vector<exao::api::Instance> instances{{0, nullptr}};
+  for (const auto& at : g.pebble_at) instances.push_back({1, at.data()});
   exao::api::Options options;
   options.radius = radius;
   options.samples = samples;
-  exao::api::Result<exao::api::Engine> engine = exao::api::Engine::build(mesh, options);
+  exao::api::Result<exao::api::Engine> engine = exao::api::Engine::build(meshes, instances, options);
   if (!engine) {
     std::fprintf(stderr, "exao_renderer: %s\n", engine.error().message.c_str());
     return 1;
@@ -360,6 +579,7 @@ int main(int argc, char** argv) {
   renderer.width = width;
   renderer.height = height;
   renderer.spp = spp;
+  if (measure) return measure_ao(renderer, tracer, radius, object_radius, samples);
   std::vector<std::uint8_t> rgb(static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 3);
   std::atomic<int> next_row{0};
   std::vector<std::thread> workers;
@@ -384,6 +604,6 @@ int main(int argc, char** argv) {
     return 1;
   }
   std::printf("%s: %d x %d, %d samples per pixel, AO N = %d, r = %g (objects %g, %s backend)\n", output.c_str(), width,
-              height, spp, samples, static_cast<double>(radius), static_cast<double>(object_radius), "bvh");
+              height, spp, samples, static_cast<double>(radius), static_cast<double>(object_radius), "auto");
   return 0;
 }

@@ -15,14 +15,16 @@
 namespace exao::lut {
 
 /// One receiver's brute mask: the OR of engine.triangle_mask over `candidates` (triangle indices,
-/// any range of them), in their order, stopping once every ray is blocked (more ORs change
-/// nothing). The one loop of brute_occlusion and of the engine's single-point brute query.
+/// any range of them), in their order, skipping the frame's excluded object and stopping once
+/// every ray is blocked (more ORs change nothing). The one loop of brute_occlusion and of the
+/// engine's single-point brute query.
 template <int Bits, class Candidates>
 [[nodiscard]] Mask<Bits> brute_mask(const MaskEngine& engine, const TriangleSet& triangles, const Frame& frame,
                                     const Candidates& candidates) {
   const Mask<Bits> all = engine.all_rays<Bits>();
   Mask<Bits> mask;
   for (const std::uint32_t t : candidates) {
+    if (!triangles.blocks_for(t, frame)) continue;  // the excluded object
     mask |= engine.triangle_mask<Bits>(triangles, t, frame);
     if (mask == all) break;
   }

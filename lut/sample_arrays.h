@@ -11,6 +11,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <numbers>
 #include <new>
 #include <vector>
 
@@ -120,6 +121,15 @@ class SampleArrays {
       cz_[k] = axis.z;
       ccos_[k] = std::nextafter(static_cast<float>(std::cos(widest)), -1.0f);
       csin_[k] = std::nextafter(static_cast<float>(std::sin(widest)), 2.0f);
+      // The kernels' cone tests (lut/kernels-inl.h: edge planes by -sin, spheres by
+      // cos(theta_k + theta_s)) bound a cone of half-angle at most pi/2; past it sin falls again
+      // and they would cull rays they reach. A cluster that wide (a caller's own directions in
+      // an incoherent order, make_given_pattern) gets the bounds of the hemisphere instead,
+      // which every test passes: cos -1 and sin 1, rounded outwards.
+      if (widest > 0.5 * std::numbers::pi) {
+        ccos_[k] = -1.0f;
+        csin_[k] = std::nextafter(1.0f, 2.0f);
+      }
     }
     build_grid();
   }

@@ -40,22 +40,32 @@ TriangleSet TriangleSet::build(const Scene& scene) {
   set.v1.resize(n);
   set.v2.resize(n);
   set.two_sided = scene.two_sided;
-  set.centre.resize(n);
-  set.radius.resize(n);
   set.cutout.assign(n, 0);
   if (scene.cutouts && scene.cutouts->any()) {
     set.cutouts = scene.cutouts;
     for (std::size_t t = 0; t < n; ++t) set.cutout[t] = scene.cutouts->tests(t) ? 1 : 0;
   }
+  set.object = scene.object;
+  set.object.resize(n, 0);
+  set.set_vertices(scene.vertices);
+  return set;
+}
+
+void TriangleSet::set_vertices(std::span<const glm::vec3> vertices) {
+  const std::size_t n = size();
+  v0.resize(n);
+  v1.resize(n);
+  v2.resize(n);
+  centre.resize(n);
+  radius.resize(n);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& range) {
     for (std::size_t t = range.begin(); t != range.end(); ++t) {
-      set.v0[t] = scene.vertices[3 * t];
-      set.v1[t] = scene.vertices[3 * t + 1];
-      set.v2[t] = scene.vertices[3 * t + 2];
-      bounding_sphere(set.v0[t], set.v1[t], set.v2[t], set.centre[t], set.radius[t]);
+      v0[t] = vertices[3 * t];
+      v1[t] = vertices[3 * t + 1];
+      v2[t] = vertices[3 * t + 2];
+      bounding_sphere(v0[t], v1[t], v2[t], centre[t], radius[t]);
     }
   });
-  return set;
 }
 
 }  // namespace exao::lut

@@ -6,11 +6,13 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include <glm/glm.hpp>
 
 #include "core/cutouts.h"
+#include "core/receiver_frame.h"
 #include "core/scene.h"
 
 namespace exao::lut {
@@ -25,7 +27,7 @@ struct PackedTriangle {
   float radius = 0.0f;
   std::uint32_t two_sided = 0;
   std::uint32_t cutout = 0;  // 1: alpha-tested (TriangleSet::cutout): its mask bits go through the decision
-  std::uint32_t unused = 0;
+  std::uint32_t object = 0;  // TriangleSet::object: a receiver may exclude it
 };
 static_assert(sizeof(PackedTriangle) == 64);
 
@@ -33,6 +35,7 @@ struct TriangleSet {
   // Structure of arrays, one entry per triangle, in the scene's order (index t = scene index).
   std::vector<glm::vec3> v0, v1, v2;    // world space; the front face is counter-clockwise
   std::vector<std::uint8_t> two_sided;  // 1: blocks rays from both sides
+  std::vector<std::uint32_t> object;    // Scene::object (0 when the scene has none)
   std::vector<glm::vec3> centre;        // bounding sphere: the smallest sphere holding v0, v1, v2
   std::vector<float> radius;            // ... its radius, rounded up so that every vertex is inside
                                         // in exact arithmetic on the stored floats
@@ -43,12 +46,17 @@ struct TriangleSet {
 
   [[nodiscard]] std::size_t size() const { return two_sided.size(); }
   [[nodiscard]] PackedTriangle packed(std::size_t t) const {
-    return {v0[t], v1[t], v2[t], centre[t], radius[t], two_sided[t], cutout[t], 0};
+    return {v0[t], v1[t], v2[t], centre[t], radius[t], two_sided[t], cutout[t], object[t]};
   }
+  /// Whether triangle t may block the rays of `frame` (not of the object it excludes).
+  [[nodiscard]] bool blocks_for(std::size_t t, const Frame& frame) const { return object[t] != frame.excluded_object; }
 
   /// Copies the scene's triangles and computes their spheres (in double, then the radius is
   /// rounded up to cover the float centre). Multithreaded; a few ms per million triangles.
   [[nodiscard]] static TriangleSet build(const Scene& scene);
+  /// Moves the triangles to new positions (3 per triangle, this set's order), sidedness and
+  /// objects kept: the spheres as build computes them. For a refit after a deformation.
+  void set_vertices(std::span<const glm::vec3> vertices);
 };
 
 /// The smallest sphere holding a triangle: the circumsphere for an acute triangle, else the

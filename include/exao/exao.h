@@ -81,7 +81,8 @@ typedef struct exao_options {
   uint64_t pattern_seed;  /* default 0x65CA0 */
   exao_sidedness sidedness; /* default EXAO_SIDED_AUTO */
   exao_mask_mode mask_mode; /* default EXAO_MASKS_EXACT */
-  float origin_offset;    /* eps, world units, >= 0; negative: 1e-4 of the diagonal (default -1) */
+  float origin_offset;    /* eps, world units, >= 0; negative (default -1): the point's own scale,
+                             max(1e-6, 1e-4 * max |p_k|), as in C++ (exao.hpp, Options) */
   int threads;            /* worker threads of batch queries, 0 to 256 (or 4x the cores); 0: one
                              per core (default 0) */
   exao_backend backend;   /* default EXAO_BACKEND_AUTO */
@@ -145,7 +146,7 @@ typedef struct exao_engine_info {
   int samples;                  /* N */
   size_t mask_words;            /* 64-bit words per mask: (N + 63) / 64 */
   float radius;                 /* r */
-  float origin_offset;          /* eps */
+  float origin_offset;          /* eps, or the default's floor 1e-6 */
   int threads;
   size_t triangles;
   size_t two_sided_triangles;
@@ -157,6 +158,8 @@ typedef struct exao_engine_info {
   size_t table_bytes;
   const char* simd;             /* the level the mask kernels run: "scalar", "sse2", "sse4", "avx2",
                                    "avx512"; "none" for the embree backend; static storage */
+  float origin_offset_per_magnitude; /* 1e-4 with the default offset: eps(p) = max(origin_offset,
+                                   this * max |p_k|); 0 when an offset was given */
 } exao_engine_info;
 
 /* Fills *info. Errors: EXAO_INVALID_ARGUMENT when engine or info is NULL. */
@@ -179,6 +182,10 @@ typedef struct exao_receiver {
   float position[3]; /* world units, finite */
   float normal[3];   /* finite, need not be unit, squared length a normal float */
   uint64_t key;      /* picks the pattern's jitter: pixel, vertex or texel index, ... */
+  uint32_t exclude;  /* 0: every triangle may block; k + 1: the triangles of object k (mesh k of
+                        the build) block none of this receiver's rays, as C++'s
+                        Receiver::excluded_object = k. Offset by one so that a zero-initialised
+                        receiver excludes nothing. */
 } exao_receiver;
 
 /* AO in [0, 1] at one point, computed on the calling thread. Errors: EXAO_INVALID_ARGUMENT

@@ -203,6 +203,27 @@ struct Mesh {
   const float* transform = nullptr;
 };
 
+/// An id that names no object: Receiver::excluded_object's default.
+inline constexpr std::uint32_t kNoObject = 0xFFFFFFFFu;
+
+/// One placement of a mesh (Engine::build with instances): meshes[mesh] at `transform`, as
+/// many times as the caller likes, from the same arrays (the caller copies nothing).
+///
+/// Memory: the engine flattens every placement into world-space triangles, since the mask
+/// backends' BVH is one level. The reference (Embree) reads the same flattened floats, which is
+/// what keeps every backend's rays and bits identical; Embree instances would apply the
+/// transform inside Embree, in floats no mask sees. Each placed triangle costs what a triangle
+/// of its own costs: about 0.8 KiB of resident memory with the default auto backend, measured
+/// right after build (a 10k-triangle mesh placed 101 times: +820 MiB against placed once; the
+/// BVH's triangles, packed and lane copies, Embree's buffers and BVH, and what the build's
+/// temporaries leave resident). A two-level BVH that stores a mesh once is not there yet.
+struct Instance {
+  std::size_t mesh = 0;  // index into build's meshes
+  /// 12 floats, a row-major 3x4 matrix M: world = M * (the mesh's vertex after its own
+  /// Mesh::transform, 1). nullptr: identity. Must be finite. Read during build and refit only.
+  const float* transform = nullptr;
+};
+
 /// A pinhole camera of a scene file (or of a built-in scene).
 struct Camera {
   std::string name;
@@ -300,8 +321,12 @@ struct Options {
   std::uint64_t pattern_seed = 0x65CA0;
   Sidedness sidedness = Sidedness::Auto;
   MaskMode mask_mode = MaskMode::Exact;
-  /// eps: rays start at p + eps * n/|n|, world units, finite, >= 0 and at most 1e17. nullopt:
-  /// 1e-4 of the scene's bounding-box diagonal. Lifts rays off the receiver's own surface.
+  /// eps: rays start at p + eps * n/|n|, world units, finite, >= 0 and at most 1e17: lifts
+  /// rays off the receiver's own surface. nullopt (the default): the point's own scale,
+  ///     eps(p) = max(1e-6, 1e-4 * max(|p.x|, |p.y|, |p.z|))   world units,
+  /// about 840 float ulps of p's largest coordinate, so a triangle added far away changes no
+  /// receiver's rays. (The exao program's default is 1e-4 of the scene's bounding-box diagonal,
+  /// DESIGN.md section 1; give that value here to get `exao query`'s rays.)
   std::optional<float> origin_offset;
   /// Worker threads of batch queries (and of the build), from 0 to 256 (or 4x the cores, if
   /// more: oneTBB's ceiling); 0: one per core.
@@ -325,6 +350,11 @@ struct Receiver {
   Vec3 normal{0.0f, 0.0f, 1.0f};  // the side rays leave from: finite, need not be unit; its
                               // squared length must be a normal float (|n| in about [1e-19, 1e19])
   std::uint64_t key = 0;      // picks the pattern's jitter (see the top of this file)
+  /// An object whose triangles block none of this receiver's rays, in every backend (Embree's
+  /// filter skips them too): the shaded object itself, say. Objects are the meshes of
+  /// Engine::build (index into meshes) or, when built with instances, the instances (index into
+  /// instances). kNoObject: none. An id that names no object excludes nothing.
+  std::uint32_t excluded_object = kNoObject;
 };
 
 /// One shadow ray of a receiver, world space: it starts at the receiver's ray origin p'.
@@ -365,7 +395,10 @@ struct EngineInfo {
   int samples = 0;                 // N
   std::size_t mask_words = 0;      // 64-bit words per mask in batch output: (N + 63) / 64
   float radius = 0.0f;             // r, world units
-  float origin_offset = 0.0f;      // eps, world units
+  float origin_offset = 0.0f;      // eps, world units: the offset given, or the default's floor 1e-6
+  float origin_offset_per_magnitude = 0.0f;  // 1e-4 with the default offset, then the offset at p is
+                                   // max(origin_offset, origin_offset_per_magnitude * max_k |p_k|);
+                                   // 0 when an offset was given
   int threads = 0;                 // worker threads of batch queries
   std::size_t triangles = 0;       // triangles kept (non-zero area)
   std::size_t two_sided_triangles = 0;
@@ -415,6 +448,21 @@ struct QuerySettings {
   std::optional<float> radius;         // r, world units: as Options::radius
   std::optional<float> origin_offset;  // eps, world units: as Options::origin_offset
   std::optional<int> samples;          // N: as Options::samples
+  /// The caller's own ray directions instead of the shared pattern (a renderer's sampler):
+  /// N = directions.size() unit vectors (normalised by exao) in the receiver frame, +z along
+  /// the normal, each with z > 0; N a multiple of 32 in [32, 1024] (samples, if given, must
+  /// equal it). Bit i of every mask is direction i. Every receiver's frame is still turned by
+  /// its key's small tilt and rotation (rays() gives the world rays). Copied by with_settings.
+  /// Empty: the engine's pattern.
+  /// Cost: the exact masks need the directions only, so no table is built in MaskMode::Exact
+  /// (MaskMode::Lut builds one, about a second). Making the engine copies them and computes
+  /// the cone of every run of 16 consecutive directions (microseconds; examples/README figures):
+  /// the masks are exact in any order, and fastest when each run of 16 is a compact cone, as
+  /// the shared pattern's are; a random order costs speed, never bits.
+  std::span<const Vec3> directions;
+  /// Lengths of the directions' rays as fractions of r, in (0, 1]: empty, all 1; else one per
+  /// direction (a falloff of the caller's).
+  std::span<const float> lengths;
 };
 
 /// An AO engine: the scene's triangles in the backend's structure, the sample pattern and the
@@ -432,6 +480,12 @@ class EXAO_API Engine {
   [[nodiscard]] static Result<Engine> build(const Mesh& mesh, const Options& options = {}) noexcept {
     return build(std::span<const Mesh>(&mesh, 1), options);
   }
+  /// Builds from placements of the meshes (Instance): the scene is every instance's mesh at
+  /// its transform, and the objects a receiver can exclude are the instances. A mesh no
+  /// instance names is not in the scene. Errors: as above, and InvalidArgument naming
+  /// instances[i] (a mesh index out of range, a non-finite transform) or an empty list.
+  [[nodiscard]] static Result<Engine> build(std::span<const Mesh> meshes, std::span<const Instance> instances,
+                                            const Options& options = {}) noexcept;
   /// load_scene(name_or_path), then build: the same engine the exao program uses for that scene.
   [[nodiscard]] static Result<Engine> open(std::string_view name_or_path, const Options& options = {}) noexcept;
 
@@ -449,6 +503,20 @@ class EXAO_API Engine {
   /// query it like any engine. Errors: InvalidArgument naming settings.radius,
   /// settings.origin_offset or settings.samples, or the engine when it is empty.
   [[nodiscard]] Result<Engine> with_settings(const QuerySettings& settings) const noexcept;
+
+  /// Refit after a deformation or an animation: the same meshes (and instances, if build had
+  /// them) with the same topology, new vertex positions or transforms: the same counts, mesh
+  /// indices, index buffers' values and sidedness; the arrays may be other ones. Embree refits
+  /// its BVH, the mask backends recompute their triangles and their BVH's boxes and spheres
+  /// (same tree), and the answers are then those of a fresh build, bit for bit, for every
+  /// backend. Triangles that build dropped (zero area) stay out; one that collapses to zero
+  /// area blocks nothing. The radius and offset keep their values. It moves the scene of every
+  /// engine made from this one by with_settings too (they share it). Not thread-safe: no query
+  /// of those engines may run during it. About a rebuild's time for Embree's part and a few ms
+  /// per 100k triangles for the masks' (no SAH build). Errors: InvalidArgument naming what
+  /// differs from build or a non-finite vertex (the engine is then unchanged), or the engine
+  /// when it is empty; BackendError (Embree).
+  [[nodiscard]] Status refit(std::span<const Mesh> meshes, std::span<const Instance> instances = {}) noexcept;
 
   /// The resolved settings and sizes (for an empty, moved-from engine: all zero).
   [[nodiscard]] const EngineInfo& info() const noexcept;

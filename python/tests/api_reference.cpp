@@ -30,7 +30,7 @@ int fail(const std::string& message) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc != 8) return fail("usage: MESH RECEIVERS OUT SAMPLES RADIUS|default FALLOFF bvh|brute|embree");
+  if (argc != 8 && argc != 9) return fail("usage: MESH RECEIVERS OUT SAMPLES RADIUS|default FALLOFF bvh|brute|embree [OFFSET]");
   std::ifstream mesh_file(argv[1], std::ios::binary);
   std::uint64_t sizes[2] = {};
   if (!mesh_file.read(reinterpret_cast<char*>(sizes), sizeof sizes)) return fail("cannot read the mesh");
@@ -59,6 +59,9 @@ int main(int argc, char** argv) {
   options.falloff = falloff == "linear"      ? exao::api::Falloff::Linear
                     : falloff == "quadratic" ? exao::api::Falloff::Quadratic
                                              : exao::api::Falloff::Constant;
+  // The API's default offset follows each point, the module's (the exao program's) the scene's
+  // diagonal: the test gives both one offset.
+  if (argc > 8) options.origin_offset = std::stof(argv[8]);
   const std::string backend = argv[7];
   options.backend = backend == "brute" ? exao::api::Backend::Brute
                     : backend == "embree" ? exao::api::Backend::Embree

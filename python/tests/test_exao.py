@@ -66,12 +66,17 @@ def popcount_rows(masks):
 # --- Equality with the C++ API and exao query -----------------------------------------------
 
 
+# The C++ API's default offset follows each point, the module's the scene's diagonal (as the
+# exao program's): the equality tests give both this one.
+OFFSET = 0.002
+
+
 def api_masks(tmp_path, vertices, faces, points, normals, keys, samples, radius, falloff, backend):
     mesh, receivers, out = tmp_path / "mesh.bin", tmp_path / "receivers.bin", tmp_path / "masks.bin"
     mesh.write_bytes(struct.pack("<QQ", len(vertices), len(faces)) + vertices.tobytes() + faces.tobytes())
     receivers.write_bytes(struct.pack("<Q", len(points)) + points.tobytes() + normals.tobytes() + keys.astype(np.uint64).tobytes())
     subprocess.run([os.environ["EXAO_API_REFERENCE"], mesh, receivers, out, str(samples),
-                    "default" if radius is None else repr(radius), falloff, backend], check=True)
+                    "default" if radius is None else repr(radius), falloff, backend, repr(OFFSET)], check=True)
     return np.fromfile(out, np.uint64).reshape(len(points), -1)
 
 
@@ -85,7 +90,7 @@ def test_masks_equal_the_cpp_api(tmp_path, boxes, samples, radius, falloff, meth
     vertices, faces, scene = boxes
     points, normals = ground_receivers(3000)
     keys = np.arange(len(points), dtype=np.uint64) * 7 + 3
-    kwargs = dict(samples=samples, falloff=falloff, method=method, keys=keys)
+    kwargs = dict(samples=samples, falloff=falloff, method=method, keys=keys, offset=OFFSET)
     if radius is not None:
         kwargs["radius"] = radius
     mine = scene.masks(points, normals, **kwargs)
