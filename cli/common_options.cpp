@@ -75,9 +75,9 @@ void add_method_options(CLI::App& app, MethodOptions& options) {
       ->capture_default_str();
 }
 
-void print_stats(const engine::Stats& stats) {
+void print_stats(const engine::Stats& stats, std::optional<Isa> isa) {
   if (stats.raster.receivers) std::printf("%s", raster::format_stats(stats.raster).c_str());
-  std::printf("%s", bvh::format_stats(stats.traversal, default_isa()).c_str());
+  std::printf("%s", bvh::format_stats(stats.traversal, isa ? *isa : default_isa()).c_str());
 }
 
 void print_load_report(const std::string& name, const LoadReport& r) {

@@ -102,6 +102,8 @@ struct View {
 [[nodiscard]] Result<void> check_output(const std::string& output, const std::string& input);
 
 /// Prints the work counters: per receiver (bvh), and the culling stages (raster).
-void print_stats(const engine::Stats& stats);
+/// The counters, naming the instruction set the kernels ran at (`isa`: the engine's option, or
+/// the default level when unset).
+void print_stats(const engine::Stats& stats, std::optional<Isa> isa);
 
 }  // namespace exao::cli

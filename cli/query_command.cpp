@@ -82,7 +82,7 @@ int run_query(const QueryOptions& options, const Invocation& invocation) {
               engine::method_name(engine->method()), seconds,
               static_cast<double>(receivers->size()) * engine->samples() / seconds * 1e-6, output.c_str());
   if (invocation.merge) std::printf("  AO from %s (the time above casts no rays)\n", invocation.merge->parts.c_str());
-  if (options.stats) print_stats(stats);
+  if (options.stats) print_stats(stats, engine->options().isa);
   return 0;
 }
 

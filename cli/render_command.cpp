@@ -135,7 +135,7 @@ int run_render(const RenderOptions& options, const Invocation& invocation) {
               *levels ? "raster+lod" : engine::method_name(engine->method()), seconds, mrays, output.c_str(),
               options.png.empty() ? "" : ", ", options.png.c_str());
   if (invocation.merge) std::printf("  AO from %s (the time above casts no rays)\n", invocation.merge->parts.c_str());
-  if (options.stats) print_stats(stats);
+  if (options.stats) print_stats(stats, engine->options().isa);
   return 0;
 }
 
