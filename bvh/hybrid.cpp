@@ -74,11 +74,20 @@ void HybridController::record(int task_level, std::size_t receivers, double mask
   for (int l = 1; l < kLevels; ++l) {
     if (cost[l] < cost[best]) best = l;
   }
+  if (explored_from >= 0) {
+    // The running average moves a quarter of the way a task, so judge the neighbour by this
+    // task alone: cheaper than the best's average, look again soon.
+    const bool promising = per_receiver < cost[explored_from];
+    explore_period = promising ? kExplorePeriod : std::min(2 * explore_period, kMaxExplorePeriod);
+    next_explore = tasks + explore_period;
+    explored_from = -1;
+  }
   level = best;
-  if (tasks % kExplorePeriod == 0) {
-    const int step = (tasks / kExplorePeriod) % 2 == 0 ? 1 : -1;
-    const int other = best + step >= 0 && best + step < kLevels ? best + step : best - step;
-    level = other;
+  if (tasks >= next_explore) {
+    ++explorations;
+    const int step = explorations % 2 == 0 ? 1 : -1;
+    level = best + step >= 0 && best + step < kLevels ? best + step : best - step;
+    explored_from = best;
   }
 }
 
@@ -112,6 +121,7 @@ void run_task(const Bvh& bvh, const lut::MaskEngine& engine, const EmbreeScene& 
 
   const Clock::time_point t0 = Clock::now();
   std::uint64_t units = 0;
+  OccluderCache cache;  // the task's receivers are neighbours: they share occluders
   for (std::size_t i = 0; i < count; ++i) {
     frames[i] = engine.rays().frame(receivers[begin + i]);
     std::span<std::uint64_t> row_undecided(undecided + i * words, words);
@@ -120,7 +130,7 @@ void run_task(const Bvh& bvh, const lut::MaskEngine& engine, const EmbreeScene& 
       continue;
     }
     HybridOutcome<Bits> outcome;
-    const Mask<Bits> sure = traverse_certain<Bits, Stats>(bvh, engine, frames[i], stats, limit, outcome);
+    const Mask<Bits> sure = traverse_certain<Bits, Stats>(bvh, engine, frames[i], stats, limit, outcome, &cache);
     store(sure, out.subspan(i * words, words));
     store(outcome.undecided, row_undecided);
     units += outcome.units;

@@ -18,10 +18,11 @@
 // The allowance is one of five levels, 0, N/16, N/4, N and unbounded (masks to the end), and
 // which one pays is measured, not predicted: a thread keeps the running average of the wall time
 // per receiver of each level on its recent tasks (each level tried once on a thread's first five
-// tasks), follows the cheapest, and gives every sixteenth task to a neighbouring level
-// (alternately above and below), so that a change of geometry
-// along the Morton order is noticed (neighbouring receivers see the same geometry: what the last
-// tasks cost is the best guess for the next). The prices are ratios of sums over recent tasks
+// tasks), follows the cheapest, and now and then gives a task to a neighbouring level
+// (alternately above and below; every 16th task, the interval doubling up to 256 while the
+// neighbour proves no better), so that a change of geometry along the Morton order is noticed
+// (neighbouring receivers see the same geometry: what the last tasks cost is the best guess for
+// the next). The prices are ratios of sums over recent tasks
 // (each decayed by 0.9 a task), so a task that casts a handful of rays weighs little.
 
 #include <atomic>
@@ -59,10 +60,19 @@ struct HybridController {
   /// geometry along the Morton order (a few hundred receivers), rare enough that trying a worse
   /// level costs a few percent.
   static constexpr std::uint64_t kExplorePeriod = 16;
+  /// ... and each time the neighbour's task costs more than the best level's average, the period
+  /// doubles, up to this many tasks: on uniform work (a bake of one dense asset, where rays
+  /// alone win) trying a worse level every sixteenth task cost 5-10%. A neighbour's task that
+  /// costs less resets it.
+  static constexpr std::uint64_t kMaxExplorePeriod = 256;
   float rays_per_unit = 0.5f;   // price of one unit of mask work in Embree rays (measured)
   double cost[kLevels] = {};    // ns per receiver of each allowance level, running average (0: not tried)
   int level = 0;                // the level of the next task
   std::uint64_t tasks = 0;
+  std::uint64_t explore_period = kExplorePeriod;
+  std::uint64_t next_explore = kExplorePeriod;  // the task count at which to try a neighbour
+  int explored_from = -1;       // the best level when this task tried a neighbour (-1: it did not)
+  std::uint64_t explorations = 0;
   // Decayed sums of the prices' measurements: mask time and units, Embree time and rays.
   double mask_ns = 0.0, mask_units = 0.0, ray_ns = 0.0, rays = 0.0;
 

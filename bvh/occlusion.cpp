@@ -21,9 +21,10 @@ void run(const Bvh& bvh, const lut::MaskEngine& engine, std::span<const Receiver
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, receivers.size(), 64), [&](const tbb::blocked_range<std::size_t>& range) {
     const lut::FlushDenormals flush;  // the same float mode as every other backend
     TraversalStats& mine = local.local();
+    OccluderCache cache;  // neighbours in the range share occluders
     for (std::size_t r = range.begin(); r < range.end(); ++r) {
       const Frame frame = engine.rays().frame(receivers[r]);
-      store(traverse<Bits, Stats>(bvh, engine, frame, &mine), masks.row(r));
+      store(traverse<Bits, Stats>(bvh, engine, frame, &mine, &cache), masks.row(r));
     }
     counter.add(range.size());
   });

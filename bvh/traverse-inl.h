@@ -20,10 +20,91 @@
 // Both set up a node's children (bvh/node_setup-inl.h) and a leaf's triangles
 // (bvh/leaf_setup-inl.h) in lanes, then finish the survivors one by one.
 
+// A leaf block of the triangles t[0..n) of bvh.packed (padding lanes NaN, as the builder's): the
+// same floats as their own leaves' blocks, so leaf_setup gives the same bits.
+inline void gather_block(const Bvh& bvh, const std::uint32_t* t, int n, LeafBlock& block) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  block.two_sided = 0;
+  block.cutout = 0;
+  for (int l = 0; l < LeafBlock::kLanes; ++l) {
+    if (l >= n) {
+      for (float* p : {block.v0x, block.v0y, block.v0z, block.v1x, block.v1y, block.v1z, block.v2x, block.v2y, block.v2z,
+                       block.cx, block.cy, block.cz, block.radius}) {
+        p[l] = nan;
+      }
+      continue;
+    }
+    const PackedTriangle& tri = bvh.packed[t[l]];
+    block.v0x[l] = tri.v0.x, block.v0y[l] = tri.v0.y, block.v0z[l] = tri.v0.z;
+    block.v1x[l] = tri.v1.x, block.v1y[l] = tri.v1.y, block.v1z[l] = tri.v1.z;
+    block.v2x[l] = tri.v2.x, block.v2y[l] = tri.v2.y, block.v2z[l] = tri.v2.z;
+    block.cx[l] = tri.centre.x, block.cy[l] = tri.centre.y, block.cz[l] = tri.centre.z;
+    block.radius[l] = tri.radius;
+    block.two_sided |= (tri.two_sided ? 1u : 0u) << l;
+    block.cutout |= (tri.cutout ? 1u : 0u) << l;
+  }
+}
+
+// The rest of triangle bvh.packed[t]'s mask after its set-up in lane l: pure, triangle_finish;
+// certain, the sure mask of certain_finish, its maybe bits ORed into *maybe. Cut-outs keep only
+// the bits their alpha decides.
+template <int Bits, bool Certain>
+[[nodiscard]] inline Mask<Bits> finish_triangle(const Bvh& bvh, const lut::MaskEngine& engine, std::uint32_t t,
+                                                const LeafSetup& setup, int l, const Frame& frame, float g,
+                                                std::uint64_t allowed, lut::KernelCounters* counters, Mask<Bits>& maybe) {
+  const lut::KernelContext& ctx = engine.kernel_context();
+  const PackedTriangle& tri = bvh.packed[t];
+  if constexpr (Certain) {
+    CertainMasks<Bits> both = certain_finish<Bits>(ctx, tri, setup.certain(l), frame, g, allowed, counters);
+    if (tri.cutout) {
+      lut::keep_cutout_sure(*bvh.cutouts, bvh.scene_triangle[t], engine.rays(), frame, both.sure.words, both.maybe.words);
+    }
+    maybe |= both.maybe;
+    return both.sure;
+  } else {
+    Mask<Bits> mask = triangle_finish<Bits>(ctx, tri, setup.pure(l), frame, allowed, counters);
+    if (tri.cutout) lut::keep_cutout_hits(*bvh.cutouts, bvh.scene_triangle[t], engine.rays(), frame, mask.words);
+    return mask;
+  }
+}
+
+// Before the traversal: the masks of the triangles that blocked new rays at the previous
+// receiver (OccluderCache), set up eight at a time in lanes. Neighbouring receivers are mostly
+// blocked by the same triangles, so the cumulative mask starts nearly complete and the traversal
+// then culls every node and cluster behind them. Each is a triangle's own mask, computed as the
+// traversal computes it, so blocked holds only bits the answer holds and every cull stays
+// conservative; the traversal still meets each of them again (and adds nothing). Returns the
+// triangles set up.
+template <int Bits, bool Certain>
+inline int mask_cached_occluders(const Bvh& bvh, const lut::MaskEngine& engine, const Frame& frame, float g,
+                                 const OccluderCache& previous, OccluderCache& next, Mask<Bits>& blocked,
+                                 Mask<Bits>& maybe, lut::KernelCounters* counters) {
+  const int n_rays = engine.samples();
+  std::uint64_t allowed = lut::open_clusters(blocked, n_rays);
+  for (int first = 0; first < previous.count && allowed; first += LeafBlock::kLanes) {
+    const int n = std::min(LeafBlock::kLanes, previous.count - first);
+    LeafBlock block;
+    gather_block(bvh, previous.triangle + first, n, block);
+    LeafSetup setup;
+    std::uint32_t live = leaf_setup<Certain>(engine.kernel_context(), block, frame, g, setup) & ((1u << n) - 1u);
+    for (; live && allowed; live &= live - 1) {
+      const int l = std::countr_zero(live);
+      const std::uint32_t t = previous.triangle[first + l];
+      if (frame.excluded_object != kNoObject && bvh.packed[t].object == frame.excluded_object) continue;
+      const Mask<Bits> sure = finish_triangle<Bits, Certain>(bvh, engine, t, setup, l, frame, g, allowed, counters, maybe);
+      if (popcount_and_not(sure, blocked) == 0) continue;
+      blocked |= sure;
+      allowed &= lut::open_clusters(blocked, n_rays);
+      next.add(t);
+    }
+  }
+  return previous.count;
+}
+
 template <int Bits, bool Stats, bool Certain>
 [[nodiscard]] Mask<Bits> traverse_receiver(const Bvh& bvh, const lut::MaskEngine& engine, const Frame& frame,
                                            TraversalStats* stats, const MaskBudget* budget,
-                                           HybridOutcome<Bits>* outcome) {
+                                           HybridOutcome<Bits>* outcome, OccluderCache* cache) {
   const lut::KernelContext& ctx = engine.kernel_context();
   lut::KernelCounters* counters = Stats ? &stats->kernels : nullptr;
   const int n_rays = engine.samples();
@@ -66,6 +147,18 @@ template <int Bits, bool Stats, bool Certain>
     return blocked;
   };
 
+  // The occluders of the previous receiver first; this receiver's, for the next.
+  OccluderCache next;
+  if (cache && cache->count > 0) {
+    const int set_up = mask_cached_occluders<Bits, Certain>(bvh, engine, frame, g, *cache, next, blocked, maybe, counters);
+    if constexpr (Stats) stats->triangles_cached += static_cast<std::uint64_t>(set_up);
+    if constexpr (Certain) units += static_cast<std::uint32_t>(set_up);
+  }
+  const auto finish_cached = [&](bool complete) {
+    if (cache) *cache = next;
+    return finish(complete);
+  };
+
   alignas(64) detail::StackEntry<Bits> stack[detail::kStackSize];
   int top = 0;
   std::uint32_t node_index = 0;
@@ -76,7 +169,7 @@ template <int Bits, bool Stats, bool Certain>
     if constexpr (Stats) ++stats->nodes_visited;
     if constexpr (Certain) {
       ++units;
-      if (over_budget()) return finish(false);
+      if (over_budget()) return finish_cached(false);
     }
     const std::uint64_t open = lut::open_clusters(blocked, n_rays);
 
@@ -123,35 +216,23 @@ template <int Bits, bool Stats, bool Certain>
       while (live) {
         const int l = std::countr_zero(live);
         live &= live - 1;
-        const PackedTriangle& tri = bvh.packed[entry.child + l];
-        Mask<Bits> sure;
-        if constexpr (Certain) {
-          CertainMasks<Bits> both = certain_finish<Bits>(ctx, tri, setup.certain(l), frame, g, allowed, counters);
-          if (tri.cutout) {
-            lut::keep_cutout_sure(*bvh.cutouts, bvh.scene_triangle[entry.child + l], engine.rays(), frame, both.sure.words,
-                                  both.maybe.words);
-          }
-          maybe |= both.maybe;
-          sure = both.sure;
-        } else {
-          sure = triangle_finish<Bits>(ctx, tri, setup.pure(l), frame, allowed, counters);
-          if (tri.cutout) lut::keep_cutout_hits(*bvh.cutouts, bvh.scene_triangle[entry.child + l], engine.rays(), frame, sure.words);
-        }
-        if constexpr (Stats) {
-          if (popcount_and_not(sure, blocked) > 0) ++stats->triangles_blocking;
-        }
-        if (sure.none()) continue;
+        const Mask<Bits> sure =
+            finish_triangle<Bits, Certain>(bvh, engine, entry.child + l, setup, l, frame, g, allowed, counters, maybe);
+        const bool blocks = popcount_and_not(sure, blocked) > 0;
+        if constexpr (Stats) stats->triangles_blocking += blocks;
+        if (!blocks) continue;
+        next.add(entry.child + l);
         blocked |= sure;
         allowed &= lut::open_clusters(blocked, n_rays);
         if (!allowed) break;
       }
-      if (blocked == all) return finish(true);
+      if (blocked == all) return finish_cached(true);
       if constexpr (Certain) {
         units += entry.leaf_size;
-        if (over_budget()) return finish(false);
+        if (over_budget()) return finish_cached(false);
       }
     }
-    if (!descended) return finish(true);
+    if (!descended) return finish_cached(true);
   }
 }
 

@@ -32,6 +32,7 @@ struct TraversalStats {
   std::uint64_t nodes_visited = 0;       // internal nodes whose children were tested
   std::uint64_t triangles_tested = 0;    // triangle_mask calls
   std::uint64_t triangles_blocking = 0;  // triangles that blocked at least one new ray
+  std::uint64_t triangles_cached = 0;    // the previous receiver's occluders set up first (OccluderCache)
   lut::KernelCounters kernels;           // plane tests, sphere masks, clusters evaluated
   // The auto method (bvh/hybrid.h):
   std::uint64_t rays = 0;                // rays of its receivers (receivers x N)
@@ -43,6 +44,7 @@ struct TraversalStats {
     nodes_visited += o.nodes_visited;
     triangles_tested += o.triangles_tested;
     triangles_blocking += o.triangles_blocking;
+    triangles_cached += o.triangles_cached;
     kernels += o.kernels;
     rays += o.rays;
     rays_cast += o.rays_cast;
@@ -69,6 +71,22 @@ struct HybridOutcome {
   bool complete = false;    // the traversal ran to the end (or every ray was blocked)
 };
 
+/// The triangles that blocked new rays at the previous receiver of a run of neighbouring
+/// receivers. A traversal given a cache masks these first (they most likely block the same rays
+/// here), then traverses as before, and leaves its own occluders in the cache for the next
+/// receiver. The masks are the same bits with or without it; only the work changes. One cache
+/// per thread and per run of receivers in a coherent order, on one Bvh (indices into
+/// Bvh::packed).
+struct OccluderCache {
+  static constexpr int kMax = 64;
+  int count = 0;
+  std::uint32_t triangle[kMax];
+
+  void add(std::uint32_t t) {
+    if (count < kMax) triangle[count++] = t;
+  }
+};
+
 namespace detail {
 
 template <int Bits>
@@ -86,7 +104,7 @@ inline constexpr int kStackSize = 64 * (kMaxChildren - 1) + 2;
 template <int Bits>
 struct TraverseFunctions {
   using Function = Mask<Bits> (*)(const Bvh&, const lut::MaskEngine&, const Frame&, TraversalStats*,
-                                  const MaskBudget*, HybridOutcome<Bits>*);
+                                  const MaskBudget*, HybridOutcome<Bits>*, OccluderCache*);
   Function plain;
   Function counted;
   Function certain;          // the sure mask; the rest in *outcome
@@ -122,12 +140,13 @@ struct TraverseTable {
 [[nodiscard]] const TraverseTable& traverse_table(Isa isa);
 
 /// The mask of the receiver whose frame is `frame`, at the engine's instruction set. With
-/// `Stats`, counts work into `stats`. Bits must be engine.bits().
+/// `Stats`, counts work into `stats`; with `cache`, masks the previous receiver's occluders
+/// first and leaves this one's there. Bits must be engine.bits().
 template <int Bits, bool Stats>
 [[nodiscard]] Mask<Bits> traverse(const Bvh& bvh, const lut::MaskEngine& engine, const Frame& frame,
-                                  TraversalStats* stats) {
+                                  TraversalStats* stats, OccluderCache* cache = nullptr) {
   const TraverseFunctions<Bits>& f = traverse_table(engine.isa()).template get<Bits>();
-  return (Stats ? f.counted : f.plain)(bvh, engine, frame, stats, nullptr, nullptr);
+  return (Stats ? f.counted : f.plain)(bvh, engine, frame, stats, nullptr, nullptr, cache);
 }
 
 /// The certain traversal of the `auto` method (bvh/traverse-inl.h): returns the rays blocked for
@@ -137,9 +156,9 @@ template <int Bits, bool Stats>
 template <int Bits, bool Stats>
 [[nodiscard]] Mask<Bits> traverse_certain(const Bvh& bvh, const lut::MaskEngine& engine, const Frame& frame,
                                           TraversalStats* stats, const MaskBudget* budget,
-                                          HybridOutcome<Bits>& outcome) {
+                                          HybridOutcome<Bits>& outcome, OccluderCache* cache = nullptr) {
   const TraverseFunctions<Bits>& f = traverse_table(engine.isa()).template get<Bits>();
-  return (Stats ? f.certain_counted : f.certain)(bvh, engine, frame, stats, budget, &outcome);
+  return (Stats ? f.certain_counted : f.certain)(bvh, engine, frame, stats, budget, &outcome, cache);
 }
 
 /// Each triangle's mask of the leaf that starts at triangle `first` (a Node::child of a leaf
