@@ -292,13 +292,14 @@ std::size_t EmbreeScene::occlude_selected(const ShadowRays& rays, std::span<cons
         const int sample = static_cast<int>(64 * w) + std::countr_zero(bits);
         if (sample >= n) break;
         int live = 0;
+        // Every lane holds a real ray, the ones not wanted too (their answers are not read): on
+        // an AVX2 machine Debian's Embree 3 asserted on the stale rays of inactive lanes
+        // (ray.valid(), in its 8-wide hybrid occluded) and aborted the program.
         for (int lane = 0; lane < K; ++lane) {
           const bool on = lane < lanes && ((wanted[(first + lane) * words + w] >> (sample % 64)) & 1u);
           valid[lane] = on ? -1 : 0;
-          if (on) {
-            set_lane(packet, lane, frames[first + lane], rays, sample);
-            ++live;
-          }
+          set_lane(packet, lane, frames[first + (lane < lanes ? lane : 0)], rays, sample);
+          live += on;
         }
         cast += static_cast<std::size_t>(live);
         rtcOccluded16(valid, impl_->scene, &context, &packet);
