@@ -299,11 +299,13 @@ struct Placement {
          " given: " + why + " (they block no ray)";
 }
 
-[[nodiscard]] Result<std::unique_ptr<Engine::Impl>> build_impl(const Scene& scene, const Options& options,
+// The engine takes the scene (no copy; its arrays freed as the backends are built).
+[[nodiscard]] Result<std::unique_ptr<Engine::Impl>> build_impl(Scene&& scene, const Options& options,
                                                                 StatusCode empty_code) {
   if (scene.triangle_count() == 0) return detail::make_error(empty_code, nothing_left(scene));
+  const LoadReport report = scene.report;
   Result<engine::Engine> built = [&]() -> Result<engine::Engine> {
-    exao::Result<engine::Engine> e = engine::Engine::build(scene, to_engine(options), engine::Receivers::Points);
+    exao::Result<engine::Engine> e = engine::Engine::build(std::move(scene), to_engine(options), engine::Receivers::Points);
     if (!e) return from_engine(e.error(), StatusCode::BackendError);
     return std::move(*e);
   }();
@@ -323,8 +325,8 @@ struct Placement {
   info.threads = e.threads();
   info.triangles = e.geometry().triangle_count();
   info.two_sided_triangles = e.geometry().two_sided_count();
-  info.zero_area_skipped = scene.report.zero_area_skipped;
-  info.beyond_limit_skipped = scene.report.non_finite_skipped;
+  info.zero_area_skipped = report.zero_area_skipped;
+  info.beyond_limit_skipped = report.non_finite_skipped;
   info.bounds_lo = {bounds.lo.x, bounds.lo.y, bounds.lo.z};
   info.bounds_hi = {bounds.hi.x, bounds.hi.y, bounds.hi.z};
   info.table_resolution = e.mask_engine() ? e.mask_engine()->table_resolution() : 0;
@@ -487,7 +489,7 @@ namespace {
     layout->mesh.push_back(p.mesh);
     layout->triangles.push_back(meshes[p.mesh].triangle_count);
   }
-  Result<std::unique_ptr<Engine::Impl>> impl = build_impl(scene, options, StatusCode::InvalidArgument);
+  Result<std::unique_ptr<Engine::Impl>> impl = build_impl(std::move(scene), options, StatusCode::InvalidArgument);
   if (!impl) return impl.error();
   (*impl)->layout = std::move(layout);
   return impl->release();
@@ -568,7 +570,7 @@ Result<Engine> Engine::open(std::string_view name_or_path, const Options& option
     if (name_or_path.empty()) return invalid("name_or_path: empty");
     exao::Result<Scene> scene = open_scene(std::string(name_or_path));
     if (!scene) return detail::from_internal(StatusCode::FileError, scene.error());
-    Result<std::unique_ptr<Impl>> impl = build_impl(*scene, options, StatusCode::FileError);
+    Result<std::unique_ptr<Impl>> impl = build_impl(std::move(*scene), options, StatusCode::FileError);
     if (!impl) return impl.error();
     return Engine(std::move(*impl));
   });

@@ -26,10 +26,12 @@ struct SetSource {
   [[nodiscard]] glm::vec3 vertex(std::size_t t, int k) const { return k == 0 ? set.v0[t] : k == 1 ? set.v1[t] : set.v2[t]; }
   [[nodiscard]] lut::PackedTriangle packed(std::size_t t) const { return set.packed(t); }
   [[nodiscard]] std::shared_ptr<const Cutouts> cutouts() const { return set.cutouts; }
+  void release() const {}
 };
 
 struct SceneSource {
   const Scene& scene;
+  Scene* owned = nullptr;  // the caller's scene to free once the packed copy is made, or null
   [[nodiscard]] std::size_t size() const { return scene.triangle_count(); }
   [[nodiscard]] glm::vec3 vertex(std::size_t t, int k) const { return scene.vertices[3 * t + static_cast<std::size_t>(k)]; }
   [[nodiscard]] lut::PackedTriangle packed(std::size_t t) const {
@@ -45,6 +47,10 @@ struct SceneSource {
   }
   [[nodiscard]] std::shared_ptr<const Cutouts> cutouts() const {
     return scene.cutouts && scene.cutouts->any() ? scene.cutouts : nullptr;
+  }
+  // The packed triangles hold every float the tree needs from here on.
+  void release() const {
+    if (owned) *owned = Scene{};
   }
 };
 
@@ -125,6 +131,7 @@ Result<Bvh> build_from(const Source& source, const BvhOptions& options, const Pr
         return largest;
       },
       [](float x, float y) { return std::max(x, y); });
+  source.release();
 
   // The node spheres, and one block per leaf in node order, then slot order.
   const std::vector<Topology::SlotRange>& ranges = topology->ranges;
@@ -208,6 +215,19 @@ Result<Bvh> Bvh::build(const lut::TriangleSet& triangles, const BvhOptions& opti
 
 Result<Bvh> Bvh::build(const Scene& scene, const BvhOptions& options, const ProgressCallback& progress) {
   return build_from(SceneSource{scene}, options, progress);
+}
+
+Result<Bvh> Bvh::build(Scene&& scene, const BvhOptions& options, const ProgressCallback& progress) {
+  return build_from(SceneSource{scene, &scene}, options, progress);
+}
+
+BvhBytes memory_bytes(const Bvh& bvh) {
+  BvhBytes bytes;
+  bytes.nodes = bvh.nodes.capacity() * sizeof(Node);
+  bytes.blocks = bvh.blocks.capacity() * sizeof(LeafBlock);
+  bytes.packed = bvh.packed.capacity() * sizeof(lut::PackedTriangle);
+  bytes.indices = (bvh.scene_triangle.capacity() + bvh.leaf_block.capacity()) * sizeof(std::uint32_t);
+  return bytes;
 }
 
 void Bvh::refit(std::span<const glm::vec3> vertices) {

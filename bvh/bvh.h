@@ -76,6 +76,11 @@ struct Bvh {
   /// triangle fewer at the peak): the spheres are computed as TriangleSet::build computes them.
   [[nodiscard]] static Result<Bvh> build(const Scene& scene, const BvhOptions& options = {},
                                          const ProgressCallback& progress = {});
+  /// The same tree, freeing the scene's arrays (scene = Scene{}, on success or failure after the
+  /// topology) once the packed copy is made, before the leaf blocks: the scene's 41 bytes a
+  /// triangle are then not part of the peak.
+  [[nodiscard]] static Result<Bvh> build(Scene&& scene, const BvhOptions& options = {},
+                                         const ProgressCallback& progress = {});
 
   /// Refit after a deformation: `vertices` are the triangles build was given (3 per triangle,
   /// in the scene's order; sidedness, objects and cut-outs kept), at new positions. The tree keeps its topology; every box
@@ -85,6 +90,16 @@ struct Bvh {
   /// neighbours). Single-threaded, linear in the size.
   void refit(std::span<const glm::vec3> vertices);
 };
+
+/// What a BVH holds, in bytes by array (capacities: what the process pays for them).
+struct BvhBytes {
+  std::size_t nodes = 0;    // Node, 184 bytes each
+  std::size_t blocks = 0;   // LeafBlock, 448 bytes a leaf whatever its size
+  std::size_t packed = 0;   // PackedTriangle, 64 bytes a triangle
+  std::size_t indices = 0;  // scene_triangle and leaf_block, 4 bytes a triangle each
+  [[nodiscard]] std::size_t total() const { return nodes + blocks + packed + indices; }
+};
+[[nodiscard]] BvhBytes memory_bytes(const Bvh& bvh);
 
 /// The lanes of a leaf (bit k: triangle first + k, k < count) that belong to `object`: the
 /// triangles a receiver excluding it skips (Receiver::excluded_object).

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <thread>
 
+#include "cli/progress_bar.h"
 #include "core/coordinate_limit.h"
 #include "core/cutouts.h"
 #include "core/file_kind.h"
@@ -87,7 +88,10 @@ void print_load_report(const std::string& name, const LoadReport& r) {
 }
 
 Result<Scene> open_scene(const SceneOptions& options) {
-  Result<Scene> scene = exao::open_scene(options.scene);
+  Result<Scene> scene = [&] {
+    ProgressBar bar("load");
+    return exao::open_scene(options.scene, bar.callback());
+  }();
   if (scene) print_load_report(options.scene, scene->report);
   return scene;
 }

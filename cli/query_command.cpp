@@ -1,6 +1,7 @@
 // exao query: AO at arbitrary points, one value a line, in the order of the input, by the
 // library engine that the public API (include/exao/exao.hpp) also wraps.
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <memory>
@@ -24,6 +25,17 @@ struct QueryOptions {
   ShardCliOptions shard;
 };
 
+// Where the BVH's bytes go, per triangle (issue 21: memory per triangle).
+void print_bvh_bytes(const bvh::Bvh& tree) {
+  const bvh::BvhBytes bytes = bvh::memory_bytes(tree);
+  const double n = static_cast<double>(tree.packed.size());
+  const auto per = [&](std::size_t b) { return static_cast<double>(b) / n; };
+  std::printf("bvh memory: %.1f bytes a triangle: nodes %.1f (%zu), leaf blocks %.1f (%zu, %.2f triangles a leaf), "
+              "packed triangles %.1f, indices %.1f\n",
+              per(bytes.total()), per(bytes.nodes), tree.nodes.size(), per(bytes.blocks), tree.blocks.size(),
+              n / static_cast<double>(std::max<std::size_t>(1, tree.blocks.size())), per(bytes.packed), per(bytes.indices));
+}
+
 int run_query(const QueryOptions& options, const Invocation& invocation) {
   const std::string output = invocation.merge && !invocation.merge->output.empty() ? invocation.merge->output : options.output;
   if (auto ok = check_output(output, options.scene.scene); !ok) return report(ok.error());
@@ -42,18 +54,17 @@ int run_query(const QueryOptions& options, const Invocation& invocation) {
   Result<Scene> scene = open_scene(options.scene);
   if (!scene) return report(scene.error());
   const auto build_start = std::chrono::steady_clock::now();
+  const std::size_t triangles = scene->triangle_count();
+  // The engine takes the scene: its arrays are freed as the backends are built (the BVH keeps
+  // its own copy of every triangle, Embree reads the vertices in place).
   Result<engine::Engine> engine = [&] {
     ProgressBar bar("build");
-    return engine::Engine::build(*scene, *engine_options, engine::Receivers::Points, bar.callback());
+    return engine::Engine::build(std::move(*scene), *engine_options, engine::Receivers::Points, bar.callback());
   }();
   if (!engine) return report(engine.error());
   const auto built = std::chrono::steady_clock::now();
-  const std::size_t triangles = scene->triangle_count();
   const double load_seconds = std::chrono::duration<double>(build_start - load_start).count();
   const double build_seconds = std::chrono::duration<double>(built - build_start).count();
-  // The engine holds what it needs (the BVH keeps its own copy of every triangle): the scene's
-  // arrays go before the rays.
-  *scene = Scene{};
   print_option_notes(*engine);
   if (*shard) {
     const JobRecord record = make_record("query", invocation, {options.scene.scene, options.points}, output, *receivers,
@@ -82,7 +93,10 @@ int run_query(const QueryOptions& options, const Invocation& invocation) {
               engine::method_name(engine->method()), seconds,
               static_cast<double>(receivers->size()) * engine->samples() / seconds * 1e-6, output.c_str());
   if (invocation.merge) std::printf("  AO from %s (the time above casts no rays)\n", invocation.merge->parts.c_str());
-  if (options.stats) print_stats(stats, engine->options().isa);
+  if (options.stats) {
+    print_stats(stats, engine->options().isa);
+    if (const bvh::Bvh* tree = engine->geometry().bvh()) print_bvh_bytes(*tree);
+  }
   return 0;
 }
 

@@ -22,23 +22,34 @@ namespace exao {
 struct EmbreeScene::Impl {
   RTCDevice device = nullptr;
   RTCScene scene = nullptr;
-  // Per Embree geometry: scene triangle index of each primitive, and for the one-sided geometry
-  // the front-face normals the occlusion filter tests against.
-  std::vector<std::uint32_t> triangle_of[2];
-  std::vector<glm::vec3> front_normals;
-  // What each geometry's occlusion filter reads (its user data).
+  // The vertices Embree reads, 3 per scene triangle in the scene's order (9 floats each), in
+  // one buffer both geometries share: the caller's (build_sharing) or this copy (padded).
+  std::vector<glm::vec3> own_vertices;
+  const float* vertices = nullptr;
+  std::size_t vertex_count = 0;
+  bool shared = false;
+  // Per Embree geometry, three indices per primitive: 3t, 3t + 1, 3t + 2 for scene triangle t,
+  // so the index buffer is also the way back to the scene (t = indices[3 prim] / 3).
+  std::vector<unsigned> indices[2];
+  // What each geometry's occlusion filter reads (its user data). The one-sided geometry's
+  // front-face normals are computed from the vertices at each hit, by the expression build
+  // used to store them (the same floats: 12 bytes a triangle fewer, and only hits pay).
   struct FilterData {
-    const float* vertices = nullptr;          // the geometry's vertex buffer: 9 floats per primitive
-    const glm::vec3* front_normals = nullptr;  // one-sided geometry only
-    const std::uint32_t* scene_triangle = nullptr;  // triangle_of[geometry]
+    const float* vertices = nullptr;          // the shared vertex buffer: 9 floats per scene triangle
+    const unsigned* indices = nullptr;        // the geometry's index buffer
+    bool one_sided = false;
     const Cutouts* cutouts = nullptr;          // null: every triangle opaque
-    const std::uint32_t* objects = nullptr;    // per primitive: Scene::object
+    const std::uint32_t* objects = nullptr;    // per scene triangle: Scene::object; null: all 0
   };
   std::shared_ptr<const Cutouts> cutouts;
-  std::vector<std::uint32_t> objects[2];
+  std::vector<std::uint32_t> objects;  // Scene::object, or empty when the scene has none
   FilterData filter_data[2];
   std::mutex error_mutex;
   std::string first_error;
+
+  [[nodiscard]] std::uint32_t scene_triangle(unsigned geometry, unsigned prim) const {
+    return indices[geometry][3 * static_cast<std::size_t>(prim)] / 3;
+  }
 
   ~Impl() {
     if (scene) rtcReleaseScene(scene);
@@ -50,6 +61,7 @@ namespace {
 
 constexpr unsigned kOneSided = 0;
 constexpr unsigned kTwoSided = 1;
+constexpr std::size_t kVertexPadding = Scene::kVertexPadding;
 
 void on_embree_error(void* user, RTCError code, const char* message) {
   auto* impl = static_cast<EmbreeScene::Impl*>(user);
@@ -73,12 +85,16 @@ void occlusion_filter(const RTCFilterFunctionNArguments* args) {
   for (unsigned i = 0; i < args->N; ++i) {
     if (args->valid[i] != -1) continue;
     const unsigned prim = RTCHitN_primID(args->hit, args->N, i);
-    if (data->objects[prim] == RTCRayN_id(args->ray, args->N, i)) {
+    const std::uint32_t t = data->indices[3 * static_cast<std::size_t>(prim)] / 3;
+    const std::uint32_t object = data->objects ? data->objects[t] : 0;
+    if (object == RTCRayN_id(args->ray, args->N, i)) {
       args->valid[i] = 0;
       continue;
     }
-    if (data->front_normals) {
-      const glm::vec3& n = data->front_normals[prim];
+    const float* v = data->vertices + 9 * static_cast<std::size_t>(t);
+    const glm::vec3 a{v[0], v[1], v[2]}, b{v[3], v[4], v[5]}, c{v[6], v[7], v[8]};
+    if (data->one_sided) {
+      const glm::vec3 n = glm::cross(b - a, c - a);
       const float along = RTCRayN_dir_x(args->ray, args->N, i) * n.x + RTCRayN_dir_y(args->ray, args->N, i) * n.y +
                           RTCRayN_dir_z(args->ray, args->N, i) * n.z;
       if (!(along < 0.0f)) {
@@ -86,10 +102,9 @@ void occlusion_filter(const RTCFilterFunctionNArguments* args) {
         continue;
       }
     }
-    const float* v = data->vertices + 9 * static_cast<std::size_t>(prim);
     const glm::vec3 origin{RTCRayN_org_x(args->ray, args->N, i), RTCRayN_org_y(args->ray, args->N, i),
                            RTCRayN_org_z(args->ray, args->N, i)};
-    if (origin_on_plane({v[0], v[1], v[2]}, {v[3], v[4], v[5]}, {v[6], v[7], v[8]}, origin)) {
+    if (origin_on_plane(a, b, c, origin)) {
       args->valid[i] = 0;
       continue;
     }
@@ -97,7 +112,7 @@ void occlusion_filter(const RTCFilterFunctionNArguments* args) {
     if (data->cutouts) {
       const glm::vec3 direction{RTCRayN_dir_x(args->ray, args->N, i), RTCRayN_dir_y(args->ray, args->N, i),
                                 RTCRayN_dir_z(args->ray, args->N, i)};
-      if (!data->cutouts->blocks(data->scene_triangle[prim], origin, direction)) args->valid[i] = 0;
+      if (!data->cutouts->blocks(t, origin, direction)) args->valid[i] = 0;
     }
   }
 }
@@ -108,42 +123,32 @@ void cutout_intersect_filter(const RTCFilterFunctionNArguments* args) {
   for (unsigned i = 0; i < args->N; ++i) {
     if (args->valid[i] != -1) continue;
     const unsigned prim = RTCHitN_primID(args->hit, args->N, i);
+    const std::uint32_t t = data->indices[3 * static_cast<std::size_t>(prim)] / 3;
     const glm::vec3 origin{RTCRayN_org_x(args->ray, args->N, i), RTCRayN_org_y(args->ray, args->N, i),
                            RTCRayN_org_z(args->ray, args->N, i)};
     const glm::vec3 direction{RTCRayN_dir_x(args->ray, args->N, i), RTCRayN_dir_y(args->ray, args->N, i),
                               RTCRayN_dir_z(args->ray, args->N, i)};
-    if (!data->cutouts->blocks(data->scene_triangle[prim], origin, direction)) args->valid[i] = 0;
+    if (!data->cutouts->blocks(t, origin, direction)) args->valid[i] = 0;
   }
 }
 
-// Embree reads vertex buffers with 16-byte loads, so its own allocation (padded) is used.
-void attach_triangles(EmbreeScene::Impl& impl, const Scene& scene, unsigned id) {
-  const std::vector<std::uint32_t>& triangles = impl.triangle_of[id];
-  if (triangles.empty()) return;
+// One geometry over the shared vertex buffer: its own index buffer (shared too, this scene's),
+// the filters and their data.
+void attach_triangles(EmbreeScene::Impl& impl, unsigned id) {
+  const std::vector<unsigned>& indices = impl.indices[id];
+  if (indices.empty()) return;
   RTCGeometry geometry = rtcNewGeometry(impl.device, RTC_GEOMETRY_TYPE_TRIANGLE);
-  auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                               3 * sizeof(float), 3 * triangles.size()));
-  auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                                 3 * sizeof(unsigned), triangles.size()));
-  for (std::size_t k = 0; k < triangles.size(); ++k) {
-    const auto tri = scene.triangle(triangles[k]);
-    for (int j = 0; j < 3; ++j) {
-      vertices[9 * k + 3 * j + 0] = tri[j].x;
-      vertices[9 * k + 3 * j + 1] = tri[j].y;
-      vertices[9 * k + 3 * j + 2] = tri[j].z;
-      indices[3 * k + j] = static_cast<unsigned>(3 * k + j);
-    }
-  }
-  impl.filter_data[id].vertices = vertices;
-  impl.objects[id].resize(triangles.size());
-  for (std::size_t k = 0; k < triangles.size(); ++k) {
-    impl.objects[id][k] = triangles[k] < scene.object.size() ? scene.object[triangles[k]] : 0;
-  }
-  impl.filter_data[id].objects = impl.objects[id].data();
-  if (id == kOneSided) impl.filter_data[id].front_normals = impl.front_normals.data();
-  impl.filter_data[id].scene_triangle = triangles.data();
-  impl.filter_data[id].cutouts = impl.cutouts.get();
-  rtcSetGeometryUserData(geometry, &impl.filter_data[id]);
+  rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, impl.vertices, 0,
+                             3 * sizeof(float), impl.vertex_count);
+  rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, indices.data(), 0,
+                             3 * sizeof(unsigned), indices.size() / 3);
+  EmbreeScene::Impl::FilterData& data = impl.filter_data[id];
+  data.vertices = impl.vertices;
+  data.indices = indices.data();
+  data.one_sided = id == kOneSided;
+  data.objects = impl.objects.empty() ? nullptr : impl.objects.data();
+  data.cutouts = impl.cutouts.get();
+  rtcSetGeometryUserData(geometry, &data);
   rtcSetGeometryOccludedFilterFunction(geometry, occlusion_filter);
   if (impl.cutouts) rtcSetGeometryIntersectFilterFunction(geometry, cutout_intersect_filter);
   rtcSetGeometryBuildQuality(geometry, RTC_BUILD_QUALITY_HIGH);
@@ -287,13 +292,14 @@ std::size_t EmbreeScene::occlude_selected(const ShadowRays& rays, std::span<cons
         const int sample = static_cast<int>(64 * w) + std::countr_zero(bits);
         if (sample >= n) break;
         int live = 0;
+        // Every lane holds a real ray, the ones not wanted too (their answers are not read): on
+        // an AVX2 machine Debian's Embree 3 asserted on the stale rays of inactive lanes
+        // (ray.valid(), in its 8-wide hybrid occluded) and aborted the program.
         for (int lane = 0; lane < K; ++lane) {
           const bool on = lane < lanes && ((wanted[(first + lane) * words + w] >> (sample % 64)) & 1u);
           valid[lane] = on ? -1 : 0;
-          if (on) {
-            set_lane(packet, lane, frames[first + lane], rays, sample);
-            ++live;
-          }
+          set_lane(packet, lane, frames[first + (lane < lanes ? lane : 0)], rays, sample);
+          live += on;
         }
         cast += static_cast<std::size_t>(live);
         rtcOccluded16(valid, impl_->scene, &context, &packet);
@@ -330,7 +336,15 @@ EmbreeScene::EmbreeScene(EmbreeScene&&) noexcept = default;
 EmbreeScene& EmbreeScene::operator=(EmbreeScene&&) noexcept = default;
 EmbreeScene::~EmbreeScene() = default;
 
-Result<EmbreeScene> EmbreeScene::build(const Scene& scene) {
+Result<EmbreeScene> EmbreeScene::build(const Scene& scene) { return build(scene, false); }
+
+Result<EmbreeScene> EmbreeScene::build_sharing(const Scene& scene) { return build(scene, true); }
+
+Result<EmbreeScene> EmbreeScene::build(const Scene& scene, bool share) {
+  const std::size_t n = scene.triangle_count();
+  if (3 * n > std::numeric_limits<unsigned>::max()) {
+    return fail("Embree: " + std::to_string(n) + " triangles is more than 32-bit vertex indices address");
+  }
   auto impl = std::make_unique<Impl>();
   impl->device = rtcNewDevice(nullptr);
   if (!impl->device) return fail("Embree: cannot create a device (" + std::to_string(static_cast<int>(rtcGetDeviceError(nullptr))) + ")");
@@ -339,41 +353,51 @@ Result<EmbreeScene> EmbreeScene::build(const Scene& scene) {
   rtcSetSceneBuildQuality(impl->scene, RTC_BUILD_QUALITY_HIGH);
   if (scene.cutouts && scene.cutouts->any()) impl->cutouts = scene.cutouts;
 
-  for (std::uint32_t t = 0; t < scene.triangle_count(); ++t) {
-    const unsigned id = scene.two_sided[t] ? kTwoSided : kOneSided;
-    impl->triangle_of[id].push_back(t);
-    if (id == kOneSided) {
-      const auto tri = scene.triangle(t);
-      impl->front_normals.push_back(glm::cross(tri[1] - tri[0], tri[2] - tri[0]));
-    }
+  // Embree reads a vertex with a 16-byte load, so the last one needs readable bytes after it:
+  // the caller's spare capacity, or this copy's padding.
+  impl->shared = share && scene.vertices.capacity() >= scene.vertices.size() + kVertexPadding;
+  if (impl->shared) {
+    impl->vertices = &scene.vertices.data()->x;
+  } else {
+    impl->own_vertices.reserve(scene.vertices.size() + kVertexPadding);
+    impl->own_vertices.assign(scene.vertices.begin(), scene.vertices.end());
+    impl->vertices = &impl->own_vertices.data()->x;
   }
-  attach_triangles(*impl, scene, kOneSided);
-  attach_triangles(*impl, scene, kTwoSided);
+  impl->vertex_count = scene.vertices.size();
+  const std::size_t two_sided = two_sided_count(scene);
+  impl->indices[kOneSided].reserve(3 * (n - two_sided));
+  impl->indices[kTwoSided].reserve(3 * two_sided);
+  for (std::uint32_t t = 0; t < n; ++t) {
+    std::vector<unsigned>& indices = impl->indices[scene.two_sided[t] ? kTwoSided : kOneSided];
+    indices.insert(indices.end(), {3 * t, 3 * t + 1, 3 * t + 2});
+  }
+  if (std::any_of(scene.object.begin(), scene.object.end(), [](std::uint32_t o) { return o != 0; })) {
+    impl->objects.assign(scene.object.begin(), scene.object.end());
+    impl->objects.resize(n, 0);
+  }
+  attach_triangles(*impl, kOneSided);
+  attach_triangles(*impl, kTwoSided);
   rtcCommitScene(impl->scene);
   if (!impl->first_error.empty()) return fail(impl->first_error);
   return EmbreeScene(std::move(impl));
 }
 
+bool EmbreeScene::shares_vertices() const { return impl_->shared; }
+
 Result<void> EmbreeScene::refit(std::span<const glm::vec3> vertices) {
   Impl& impl = *impl_;
-  std::size_t front = 0;
+  if (vertices.size() != impl.vertex_count) {
+    return fail("refit: " + std::to_string(vertices.size()) + " vertices for " + std::to_string(impl.vertex_count / 3) +
+                " triangles (3 each)");
+  }
+  // A shared buffer is the caller's, moved already (build_sharing's contract); a copy is ours.
+  if (impl.shared && &vertices.data()->x != impl.vertices) {
+    return fail("refit: this Embree scene reads the caller's vertices in place (build_sharing): move those");
+  }
+  if (!impl.shared) std::copy(vertices.begin(), vertices.end(), impl.own_vertices.begin());
   for (const unsigned id : {kOneSided, kTwoSided}) {
-    const std::vector<std::uint32_t>& triangles = impl.triangle_of[id];
-    if (triangles.empty()) continue;
+    if (impl.indices[id].empty()) continue;
     RTCGeometry geometry = rtcGetGeometry(impl.scene, id);
-    auto* buffer = const_cast<float*>(impl.filter_data[id].vertices);  // Embree's own buffer
-    for (std::size_t k = 0; k < triangles.size(); ++k) {
-      const std::size_t t = triangles[k];
-      for (int j = 0; j < 3; ++j) {
-        buffer[9 * k + 3 * j + 0] = vertices[3 * t + j].x;
-        buffer[9 * k + 3 * j + 1] = vertices[3 * t + j].y;
-        buffer[9 * k + 3 * j + 2] = vertices[3 * t + j].z;
-      }
-      if (id == kOneSided) {
-        impl.front_normals[front++] =
-            glm::cross(vertices[3 * t + 1] - vertices[3 * t], vertices[3 * t + 2] - vertices[3 * t]);
-      }
-    }
     rtcUpdateGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0);
     rtcSetGeometryBuildQuality(geometry, RTC_BUILD_QUALITY_REFIT);
     rtcCommitGeometry(geometry);
@@ -393,7 +417,7 @@ std::optional<EmbreeScene::Hit> EmbreeScene::closest_hit(const glm::vec3& origin
   query.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rtcIntersect1(impl_->scene, &context, &query);
   if (query.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
-  return Hit{impl_->triangle_of[query.hit.geomID][query.hit.primID], query.ray.tfar};
+  return Hit{impl_->scene_triangle(query.hit.geomID, query.hit.primID), query.ray.tfar};
 }
 
 MaskSet EmbreeScene::occlusion(const ShadowRays& rays, std::span<const Receiver> receivers,

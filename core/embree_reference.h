@@ -53,10 +53,22 @@ class EmbreeScene {
     float distance;          // along the unit ray direction
   };
 
+  /// Embree reads a copy of the scene's vertices (36 bytes a triangle); the scene need not
+  /// outlive the result.
   [[nodiscard]] static Result<EmbreeScene> build(const Scene& scene);
+  /// The same scene, with Embree reading `scene.vertices` in place (rtcSetSharedGeometryBuffer):
+  /// no copy. The vector's storage must then outlive the result where it is (moving the vector
+  /// keeps it; growing or freeing it does not), changed only as refit says. Embree reads each
+  /// vertex with a 16-byte load, so the vector needs spare capacity for Scene::kVertexPadding
+  /// more vertices; without it the vertices are copied as build(scene) copies them
+  /// (shares_vertices() says which). The same rays, the same answers.
+  [[nodiscard]] static Result<EmbreeScene> build_sharing(const Scene& scene);
+  /// Whether Embree reads the caller's vertices (build_sharing with the padding there).
+  [[nodiscard]] bool shares_vertices() const;
   /// Moves the triangles of the scene build was given to `vertices` (3 per triangle, the
   /// scene's order; sidedness and objects kept) and refits Embree's BVH
-  /// (RTC_BUILD_QUALITY_REFIT): no rebuild. Not while any thread queries this scene.
+  /// (RTC_BUILD_QUALITY_REFIT): no rebuild. Not while any thread queries this scene. A scene
+  /// that shares the caller's vertices takes that same array, already moved (an error otherwise).
   [[nodiscard]] Result<void> refit(std::span<const glm::vec3> vertices);
   EmbreeScene(EmbreeScene&&) noexcept;
   EmbreeScene& operator=(EmbreeScene&&) noexcept;
@@ -85,6 +97,7 @@ class EmbreeScene {
  struct Impl;  // opaque: Embree's headers stay out of exao's
 
  private:
+  [[nodiscard]] static Result<EmbreeScene> build(const Scene& scene, bool share);
   explicit EmbreeScene(std::unique_ptr<Impl> impl);
   std::unique_ptr<Impl> impl_;
 };

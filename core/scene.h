@@ -27,6 +27,11 @@ struct LoadReport {
 };
 
 struct Scene {
+  /// Spare vertices of capacity (not of size) that loaders reserve after `vertices`, so that
+  /// Embree may read the array in place with its 16-byte loads (EmbreeScene::build_sharing)
+  /// instead of copying it.
+  static constexpr std::size_t kVertexPadding = 2;
+
   std::string name;
   /// Three vertices per triangle, world space. The front face is counter-clockwise
   /// (glTF): its normal is cross(v1 - v0, v2 - v0).

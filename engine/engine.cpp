@@ -175,9 +175,12 @@ Engine::Engine(Engine&&) noexcept = default;
 Engine& Engine::operator=(Engine&&) noexcept = default;
 Engine::~Engine() = default;
 
-Result<Engine> Engine::build(const Scene& scene, const Options& options, Receivers receivers,
-                             const ProgressCallback& build_progress) {
-  // Options first: a bad one is reported before any work on the scene.
+namespace {
+
+// The geometry options an engine of `options` over `receivers` needs; fails on options that
+// cannot serve them, before any work on the scene.
+Result<GeometryOptions> geometry_options_for(const Scene& scene, const Options& options, Receivers receivers,
+                                             const ProgressCallback& build_progress) {
   if (auto ok = check_options(options); !ok) return std::unexpected(ok.error());
   if (auto ok = check_serves(options, receivers); !ok) return std::unexpected(ok.error());
   GeometryOptions geometry_options;
@@ -190,8 +193,27 @@ Result<Engine> Engine::build(const Scene& scene, const Options& options, Receive
   geometry_options.embree = receivers == Receivers::Pixels && options.method != Method::Raster;
   geometry_options.threads = options.threads;
   geometry_options.progress = build_progress;
+  return geometry_options;
+}
+
+}  // namespace
+
+Result<Engine> Engine::build(const Scene& scene, const Options& options, Receivers receivers,
+                             const ProgressCallback& build_progress) {
+  Result<GeometryOptions> geometry_options = geometry_options_for(scene, options, receivers, build_progress);
+  if (!geometry_options) return std::unexpected(geometry_options.error());
   const Method methods[] = {options.method};
-  Result<std::shared_ptr<const Geometry>> geometry = Geometry::build(scene, methods, geometry_options);
+  Result<std::shared_ptr<const Geometry>> geometry = Geometry::build(scene, methods, *geometry_options);
+  if (!geometry) return std::unexpected(geometry.error());
+  return build(std::move(*geometry), options, receivers);
+}
+
+Result<Engine> Engine::build(Scene&& scene, const Options& options, Receivers receivers,
+                             const ProgressCallback& build_progress) {
+  Result<GeometryOptions> geometry_options = geometry_options_for(scene, options, receivers, build_progress);
+  if (!geometry_options) return std::unexpected(geometry_options.error());
+  const Method methods[] = {options.method};
+  Result<std::shared_ptr<const Geometry>> geometry = Geometry::build(std::move(scene), methods, *geometry_options);
   if (!geometry) return std::unexpected(geometry.error());
   return build(std::move(*geometry), options, receivers);
 }

@@ -114,6 +114,11 @@ class Engine {
   /// `build_progress` gets the BVH build's (done, total) work units, from any thread.
   [[nodiscard]] static Result<Engine> build(const Scene& scene, const Options& options, Receivers receivers,
                                             const ProgressCallback& build_progress = {});
+  /// The same from a scene the caller gives away (Geometry::build(Scene&&)): no copy, and its
+  /// arrays freed as the backends are built, so that they are not part of the peak memory. The
+  /// scene is left empty after a build (untouched when the options are refused).
+  [[nodiscard]] static Result<Engine> build(Scene&& scene, const Options& options, Receivers receivers,
+                                            const ProgressCallback& build_progress = {});
   /// The same over a Geometry already prepared for options.method (Geometry::serves); the
   /// options' sidedness and bvh settings are the geometry's.
   [[nodiscard]] static Result<Engine> build(std::shared_ptr<const Geometry> geometry, const Options& options,

@@ -29,19 +29,49 @@ bool Geometry::serves(Method method) const {
 
 Result<std::shared_ptr<const Geometry>> Geometry::build(const Scene& scene, std::span<const Method> methods,
                                                          const GeometryOptions& options) {
+  return build_from(scene, nullptr, methods, options);
+}
+
+Result<std::shared_ptr<const Geometry>> Geometry::build(Scene&& scene, std::span<const Method> methods,
+                                                         const GeometryOptions& options) {
+  return build_from(scene, &scene, methods, options);
+}
+
+// `owned` is `scene` when the caller gave it away (build(Scene&&)), else null: then the
+// sidedness and cut-out policy are applied in place, the copy kept for raster and pixels is
+// that scene itself, Embree reads its vertex array in place, and every array is freed as soon
+// as no backend reads it.
+Result<std::shared_ptr<const Geometry>> Geometry::build_from(const Scene& scene, Scene* owned,
+                                                              std::span<const Method> methods,
+                                                              const GeometryOptions& options) {
   if (auto ok = bvh::check_options(options.bvh); !ok) return std::unexpected(ok.error());
   if (scene.triangle_count() == 0) return fail(scene.name + ": the scene has no triangle of non-zero area");
   auto geometry = std::make_shared<Geometry>();
   const bool raster = uses(methods, Method::Raster);
   const bool keep_scene = raster || options.embree;
+  const bool embree = options.embree || uses(methods, Method::Embree) || uses(methods, Method::Auto);
+  const bool brute = uses(methods, Method::Brute);
+  const bool bvh = uses(methods, Method::Bvh) || uses(methods, Method::Auto);
   // The backends see the scene with the sidedness applied; a copy only when it changes or must
-  // be kept (raster draws it, pixel receivers read its triangles' normals).
+  // be kept (raster draws it, pixel receivers read its triangles' normals) and the caller keeps
+  // the original.
   const Scene* source = &scene;
-  if (options.sidedness != Sidedness::Auto || keep_scene || scene.cutouts) {
+  Scene* disposable = nullptr;  // a scene of ours that no one needs after the build
+  if (owned) {
+    apply_sidedness(*owned, options.sidedness);
+    owned->cutouts = apply_cutout_policy(owned->cutouts, options.cutouts);
+    if (keep_scene) {
+      geometry->scene_ = std::move(*owned);
+      source = &*geometry->scene_;
+    } else {
+      disposable = owned;
+    }
+  } else if (options.sidedness != Sidedness::Auto || keep_scene || scene.cutouts) {
     geometry->scene_ = scene;
     apply_sidedness(*geometry->scene_, options.sidedness);
     geometry->scene_->cutouts = apply_cutout_policy(scene.cutouts, options.cutouts);
     source = &*geometry->scene_;
+    if (!keep_scene) disposable = &*geometry->scene_;
   }
   geometry->has_cutouts_ = source->cutouts != nullptr;
   geometry->bounds_ = source->bounds();
@@ -52,23 +82,32 @@ Result<std::shared_ptr<const Geometry>> Geometry::build(const Scene& scene, std:
   geometry->sidedness_ = options.sidedness;
   geometry->bvh_options_ = options.bvh;
 
+  // Embree reads the vertices of a scene of ours in place: the kept copy's, or the disposable
+  // one's, which are then moved (not copied) to embree_vertices_.
+  Scene* shareable = keep_scene ? &*geometry->scene_ : disposable;
+  if (embree && shareable) {
+    std::vector<glm::vec3>& vertices = shareable->vertices;
+    if (vertices.capacity() < vertices.size() + Scene::kVertexPadding) vertices.reserve(vertices.size() + Scene::kVertexPadding);
+  }
   tbb::task_arena arena(options.threads > 0 ? options.threads : static_cast<int>(tbb::task_arena::automatic));
   Result<void> built;
   arena.execute([&] {
-    if (options.embree || uses(methods, Method::Embree) || uses(methods, Method::Auto)) {
-      Result<EmbreeScene> embree = EmbreeScene::build(*source);
-      if (!embree) {
-        built = std::unexpected(embree.error());
+    if (embree) {
+      Result<EmbreeScene> reference = shareable ? EmbreeScene::build_sharing(*source) : EmbreeScene::build(*source);
+      if (!reference) {
+        built = std::unexpected(reference.error());
         return;
       }
-      geometry->embree_ = std::make_unique<EmbreeScene>(std::move(*embree));
+      geometry->embree_ = std::make_unique<EmbreeScene>(std::move(*reference));
     }
-    const bool brute = uses(methods, Method::Brute);
-    const bool bvh = uses(methods, Method::Bvh) || uses(methods, Method::Auto);
     if (bvh) {
       // Straight from the scene: the BVH keeps its own copy in leaf order, so the scene-order
-      // set (53 bytes a triangle) is made only for brute and raster, after the tree.
-      Result<bvh::Bvh> tree = bvh::Bvh::build(*source, options.bvh, options.progress);
+      // set (53 bytes a triangle) is made only for brute and raster, after the tree. A
+      // disposable scene that nothing reads afterwards is freed inside the build, before the
+      // leaf blocks are made.
+      const bool free_inside = disposable && !embree && !brute && !raster;
+      Result<bvh::Bvh> tree = free_inside ? bvh::Bvh::build(std::move(*disposable), options.bvh, options.progress)
+                                          : bvh::Bvh::build(*source, options.bvh, options.progress);
       if (!tree) {
         built = std::unexpected(tree.error());
         return;
@@ -78,6 +117,10 @@ Result<std::shared_ptr<const Geometry>> Geometry::build(const Scene& scene, std:
     if (brute || raster) geometry->triangles_ = std::make_unique<lut::TriangleSet>(lut::TriangleSet::build(*source));
   });
   if (!built) return std::unexpected(built.error());
+  if (disposable) {
+    if (geometry->embree_ && geometry->embree_->shares_vertices()) geometry->embree_vertices_ = std::move(disposable->vertices);
+    *disposable = Scene{};
+  }
   if (!keep_scene) geometry->scene_.reset();
   if (raster) geometry->lod_cache_ = std::make_unique<LodCache>(*geometry->scene_);
   return std::shared_ptr<const Geometry>(std::move(geometry));
@@ -88,12 +131,17 @@ Result<void> Geometry::refit(std::span<const glm::vec3> vertices) {
     return fail("refit: " + std::to_string(vertices.size()) + " vertices for " + std::to_string(triangle_count_) +
                 " triangles (3 each)");
   }
-  if (embree_) {
-    if (auto ok = embree_->refit(vertices); !ok) return ok;
-  }
+  // The arrays Embree may read in place first (same size: no reallocation), then Embree.
   if (scene_) {
     scene_->vertices.assign(vertices.begin(), vertices.end());
     if (lod_cache_) lod_cache_ = std::make_unique<LodCache>(*scene_);
+  }
+  if (!embree_vertices_.empty()) embree_vertices_.assign(vertices.begin(), vertices.end());
+  if (embree_) {
+    const std::vector<glm::vec3>& shared = scene_ ? scene_->vertices : embree_vertices_;
+    if (auto ok = embree_->refit(embree_->shares_vertices() ? std::span<const glm::vec3>(shared) : vertices); !ok) {
+      return ok;
+    }
   }
   if (triangles_) triangles_->set_vertices(vertices);
   if (bvh_) {

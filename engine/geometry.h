@@ -7,6 +7,7 @@
 #include <memory>
 #include <optional>
 #include <span>
+#include <vector>
 
 #include "bvh/bvh.h"
 #include "core/embree_reference.h"
@@ -34,6 +35,13 @@ class Geometry {
  public:
   /// Prepares `scene` for every method in `methods`. Fails on an empty scene or an Embree error.
   [[nodiscard]] static Result<std::shared_ptr<const Geometry>> build(const Scene& scene, std::span<const Method> methods,
+                                                                      const GeometryOptions& options);
+  /// The same geometry from a scene the caller gives away: nothing is copied (the sidedness is
+  /// applied in place, the copy raster and pixels keep is this scene, Embree reads its vertices
+  /// in place) and each array is freed once no backend reads it (for bvh alone, inside the
+  /// BVH build before its leaf blocks), so the scene is not part of the peak memory. The scene
+  /// is left empty.
+  [[nodiscard]] static Result<std::shared_ptr<const Geometry>> build(Scene&& scene, std::span<const Method> methods,
                                                                       const GeometryOptions& options);
 
   /// nullptr when not built (no method needed it and options.embree was false).
@@ -68,10 +76,16 @@ class Geometry {
   [[nodiscard]] Result<void> refit(std::span<const glm::vec3> vertices);
 
  private:
+  [[nodiscard]] static Result<std::shared_ptr<const Geometry>> build_from(const Scene& scene, Scene* owned,
+                                                                           std::span<const Method> methods,
+                                                                           const GeometryOptions& options);
+
+  // The arrays Embree may read in place come first, so that they outlive it.
+  std::optional<Scene> scene_;
+  std::vector<glm::vec3> embree_vertices_;  // the vertices Embree reads when no scene_ is kept (else empty)
   std::unique_ptr<EmbreeScene> embree_;
   std::unique_ptr<lut::TriangleSet> triangles_;
   std::unique_ptr<bvh::Bvh> bvh_;
-  std::optional<Scene> scene_;
   Bounds bounds_;
   Bounds occluder_bounds_;
   std::size_t ground_triangles_ = 0;  // the scene's last ones, left out of bounds_

@@ -93,11 +93,13 @@ std::int64_t as_integer(const unsigned char* p, Type t, bool swap) {
   }
 }
 
+constexpr std::uint64_t kProgressStep = 1 << 16;  // faces between progress reports
+
 bool is_integer(Type t) { return t != Type::None && t != Type::F32 && t != Type::F64; }
 
 }  // namespace
 
-std::optional<Result<Scene>> read_binary_ply(std::string_view file) {
+std::optional<Result<Scene>> read_binary_ply(std::string_view file, const ProgressCallback& progress) {
   // The header, as the pre-scan reads it.
   std::size_t pos = 0;
   std::string format;
@@ -208,7 +210,7 @@ std::optional<Result<Scene>> read_binary_ply(std::string_view file) {
   }
 
   Scene scene;
-  scene.vertices.reserve(3 * face->count);
+  scene.vertices.reserve(3 * face->count + Scene::kVertexPadding);
   scene.two_sided.reserve(face->count);
   scene.material.reserve(face->count);
   const std::size_t count_size = size_of(face->properties[static_cast<std::size_t>(index_property)].count_type);
@@ -251,7 +253,9 @@ std::optional<Result<Scene>> read_binary_ply(std::string_view file) {
     for (std::size_t k = 1; k + 1 < polygon.size(); ++k) {
       scene.add_triangle(points[polygon[0]], points[polygon[k]], points[polygon[k + 1]], true, -1);
     }
+    if (progress && (f + 1) % kProgressStep == 0) progress(pos, size);
   }
+  if (progress) progress(size, size);
   if (too_small > 0) scene.report.notes.push_back(std::to_string(too_small) + " faces with fewer than 3 vertices skipped");
   if (scene.triangle_count() == 0) return Result<Scene>(fail("no triangles"));
   return Result<Scene>(std::move(scene));

@@ -8,6 +8,7 @@
 #include <string_view>
 
 #include "core/error.h"
+#include "core/progress.h"
 #include "core/scene.h"
 
 namespace exao {
@@ -18,7 +19,7 @@ namespace exao {
 /// the CGAL path says it). nullopt when the layout is not one this reader takes (ASCII, a list
 /// among the vertex properties, float list counts, no vertex or face element...): the caller
 /// then reads the file with CGAL. Every read is bounds-checked, so a file that passed no
-/// pre-scan is refused rather than read past its end.
-[[nodiscard]] std::optional<Result<Scene>> read_binary_ply(std::string_view file);
+/// pre-scan is refused rather than read past its end. `progress` gets (bytes read, file size).
+[[nodiscard]] std::optional<Result<Scene>> read_binary_ply(std::string_view file, const ProgressCallback& progress = {});
 
 }  // namespace exao

@@ -23,6 +23,7 @@
 
 #include "core/file_kind.h"
 #include "io/ply_binary_reader.h"
+#include "io/stl_binary_reader.h"
 #include "io/soup_prescan.h"
 
 namespace exao {
@@ -103,19 +104,125 @@ std::string explain_obj_failure(const std::string& path) {
   return "not a readable OBJ file";
 }
 
-// The whole file in one read (istreambuf_iterator goes a byte at a time).
-bool read_file(const std::string& path, std::string& out) {
+// The whole file, in large reads (istreambuf_iterator goes a byte at a time); `progress` gets
+// (bytes read, size).
+bool read_file(const std::string& path, std::string& out, const ProgressCallback& progress) {
   std::ifstream in(path, std::ios::binary);
   if (!in) return false;
   std::error_code error;
   const auto size = std::filesystem::file_size(path, error);
   if (error) return false;
   out.resize(static_cast<std::size_t>(size));
-  in.read(out.data(), static_cast<std::streamsize>(size));
-  return static_cast<std::size_t>(in.gcount()) == out.size();
+  constexpr std::size_t kChunk = std::size_t{1} << 24;
+  for (std::size_t done = 0; done < out.size();) {
+    const std::size_t chunk = std::min(kChunk, out.size() - done);
+    in.read(out.data() + done, static_cast<std::streamsize>(chunk));
+    if (static_cast<std::size_t>(in.gcount()) != chunk) return false;
+    done += chunk;
+    if (progress) progress(done, out.size());
+  }
+  return true;
 }
 
-Result<Scene> load(const std::string& path) {
+// A load's progress in bytes: reading the file is the first half, making the scene the second.
+struct LoadProgress {
+  const ProgressCallback& progress;
+  [[nodiscard]] ProgressCallback reading() const {
+    if (!progress) return {};
+    return [&p = progress](std::size_t done, std::size_t total) { p(done, 2 * total); };
+  }
+  [[nodiscard]] ProgressCallback parsing() const {
+    if (!progress) return {};
+    return [&p = progress](std::size_t done, std::size_t total) { p(total + done, 2 * total); };
+  }
+};
+
+// A file buffer that tells how far its reader has come: (bytes handed out, file size), at each
+// refill, so that CGAL's readers, which take a stream, report progress.
+class ProgressFileBuffer : public std::filebuf {
+ public:
+  ProgressFileBuffer(const ProgressCallback& progress, std::size_t size) : progress_(progress), size_(size) {}
+
+ protected:
+  int_type underflow() override {
+    const int_type c = std::filebuf::underflow();
+    if (c != traits_type::eof()) {
+      position_ += static_cast<std::size_t>(egptr() - eback());
+      if (progress_) progress_(std::min(position_, size_), size_);
+    }
+    return c;
+  }
+  pos_type seekoff(off_type offset, std::ios_base::seekdir way, std::ios_base::openmode which) override {
+    return moved(std::filebuf::seekoff(offset, way, which));
+  }
+  pos_type seekpos(pos_type position, std::ios_base::openmode which) override {
+    return moved(std::filebuf::seekpos(position, which));
+  }
+
+ private:
+  pos_type moved(pos_type to) {
+    if (to != pos_type(off_type(-1))) position_ = static_cast<std::size_t>(off_type(to));
+    return to;
+  }
+  const ProgressCallback& progress_;
+  std::size_t size_;
+  std::size_t position_ = 0;
+};
+
+// CGAL::IO::read_polygon_soup(path, ...) as CGAL 5.5 runs it (CGAL/IO/polygon_soup_io.h and
+// each format's read_X(file name)), on streams whose buffer reports progress: the same stream
+// modes, and STL's second, ASCII attempt.
+bool read_with_cgal(const std::string& path, const std::string& ext, std::vector<Point>& points,
+                    std::vector<Polygon>& polygons, const ProgressCallback& progress) {
+  std::error_code error;
+  const auto size = static_cast<std::size_t>(std::filesystem::file_size(path, error));
+  const auto params = CGAL::parameters::verbose(false);
+  // A file that does not open gives a failed stream, as an ifstream that does not open.
+  const auto read = [&](std::ios_base::openmode mode, auto&& reader) {
+    ProgressFileBuffer buffer(progress, error ? 0 : size);
+    std::istream in(&buffer);
+    if (!buffer.open(path, std::ios::in | mode)) in.setstate(std::ios::failbit);
+    return reader(in);
+  };
+  if (ext == ".obj") {
+    return read({}, [&](std::istream& in) {
+      CGAL::IO::set_mode(in, CGAL::IO::ASCII);
+      return CGAL::IO::read_OBJ(in, points, polygons, params);
+    });
+  }
+  if (ext == ".off") return read({}, [&](std::istream& in) { return CGAL::IO::read_OFF(in, points, polygons, params); });
+  if (ext == ".ply") {
+    return read(std::ios::binary, [&](std::istream& in) {
+      CGAL::IO::set_mode(in, CGAL::IO::BINARY);
+      return CGAL::IO::read_PLY(in, points, polygons, params);
+    });
+  }
+  const bool binary = read(std::ios::binary, [&](std::istream& in) {
+    CGAL::IO::set_mode(in, CGAL::IO::BINARY);
+    return CGAL::IO::read_STL(in, points, polygons, params);
+  });
+  if (binary) return true;
+  points.clear();
+  polygons.clear();
+  return read({}, [&](std::istream& in) {
+    CGAL::IO::set_mode(in, CGAL::IO::ASCII);
+    return CGAL::IO::read_STL(in, points, polygons, CGAL::parameters::verbose(false).use_binary_mode(false));
+  });
+}
+
+// The binary layouts read straight into the scene (io/ply_binary_reader.h,
+// io/stl_binary_reader.h), from one read of the file; nullopt for any other file, which CGAL
+// then reads. PLY's pre-scan (io/soup_prescan.h) reads the same bytes.
+std::optional<Result<Scene>> read_binary_layout(const std::string& path, const std::string& ext,
+                                                const LoadProgress& progress) {
+  std::string file;
+  if (!read_file(path, file, progress.reading())) return Result<Scene>(fail("cannot read the file"));
+  if (ext == ".stl") return read_binary_stl(file, progress.parsing());
+  if (const std::string problem = ply_problem_in(file); !problem.empty()) return Result<Scene>(fail(problem));
+  return read_binary_ply(file, progress.parsing());
+}
+
+Result<Scene> load(const std::string& path, const ProgressCallback& progress) {
   if (const std::string problem = not_a_regular_file(path); !problem.empty()) return fail(problem);
   const std::string ext = lowercase_extension(path);
   if (ext != ".obj" && ext != ".ply" && ext != ".off" && ext != ".stl") {
@@ -123,13 +230,8 @@ Result<Scene> load(const std::string& path) {
   }
 
   // CGAL's OFF and PLY readers trust the counts a file states (io/soup_prescan.h).
-  if (ext == ".ply") {
-    // Read once: the pre-scan and, for the common binary layouts, the scene come from the same
-    // bytes (io/ply_binary_reader.h); any other PLY goes to CGAL.
-    std::string file;
-    if (!read_file(path, file)) return fail("cannot read the file");
-    if (const std::string problem = ply_problem_in(file); !problem.empty()) return fail(problem);
-    if (std::optional<Result<Scene>> scene = read_binary_ply(file)) return std::move(*scene);
+  if (ext == ".ply" || ext == ".stl") {
+    if (std::optional<Result<Scene>> scene = read_binary_layout(path, ext, LoadProgress{progress})) return std::move(*scene);
   }
   const std::string problem = ext == ".off" ? off_problem(path) : std::string();
   if (!problem.empty()) return fail(problem);
@@ -137,7 +239,7 @@ Result<Scene> load(const std::string& path) {
   std::vector<Point> points;
   std::vector<Polygon> polygons;
   const bool ok =
-      CGAL::IO::read_polygon_soup(path, points, polygons, CGAL::parameters::verbose(false));
+      read_with_cgal(path, ext, points, polygons, progress);
   if (!ok) {
     if (ext == ".obj") return fail(explain_obj_failure(path));
     std::string format = ext.substr(1);
@@ -168,7 +270,7 @@ Result<Scene> load(const std::string& path) {
   for (const Polygon& polygon : polygons) {
     if (polygon.size() >= 3) triangles += polygon.size() - 2;
   }
-  scene.vertices.reserve(3 * triangles);
+  scene.vertices.reserve(3 * triangles + Scene::kVertexPadding);
   scene.two_sided.reserve(triangles);
   scene.material.reserve(triangles);
   const auto at = [&](std::size_t i) {
@@ -197,11 +299,11 @@ Result<Scene> load(const std::string& path) {
 
 }  // namespace
 
-Result<Scene> load_polygon_soup(const std::string& path) {
+Result<Scene> load_polygon_soup(const std::string& path, const ProgressCallback& progress) {
   Result<Scene> scene;
   // CGAL reports some failures by throwing (its assertions, bad_alloc on a hostile count).
   try {
-    scene = load(path);
+    scene = load(path, progress);
   } catch (const std::exception& e) {
     std::string what = e.what();
     for (char& c : what) {

@@ -8,8 +8,8 @@
 #
 #   scripts/bench-scale.sh [--exao PATH] [--sizes "0.5 2 8 32"] [--out docs/scale] [--work DIR] [--threads T]
 #
-# A size whose expected peak (500 bytes a triangle, the bvh run's at 8M) is more than half of
-# MemAvailable is skipped (the machine is shared), and the table says so.
+# A size whose expected peak (300 bytes a triangle, the bvh run's at 2M and 8M) is more than half
+# of MemAvailable is skipped (the machine is shared), and the table says so.
 set -euo pipefail
 
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -50,8 +50,8 @@ for m in $sizes; do
   n=$(python3 -c "import math; print(round(math.sqrt($m * 1e6 / 2)))")
   triangles=$((2 * n * n))
   available_kb=$(awk '/MemAvailable/ {print $2}' /proc/meminfo)
-  if [ $((triangles * 500 / 1024)) -gt $((available_kb / 2)) ]; then
-    echo "bench-scale.sh: ${m}M triangles: skipped, about $((triangles * 500 / 1048576)) MB needed, $((available_kb / 1024)) MB available" >&2
+  if [ $((triangles * 300 / 1024)) -gt $((available_kb / 2)) ]; then
+    echo "bench-scale.sh: ${m}M triangles: skipped, about $((triangles * 300 / 1048576)) MB needed, $((available_kb / 1024)) MB available" >&2
     skipped+=("$m")
     continue
   fi
