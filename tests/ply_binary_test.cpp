@@ -15,6 +15,7 @@
 
 #include "io/ply_binary_reader.h"
 #include "io/polygon_soup_loader.h"
+#include "tests/scene_equality.h"
 #include "tests/test_support.h"
 
 namespace exao {
@@ -101,20 +102,6 @@ std::string ascii_ply(const Mesh& m) {
   return out;
 }
 
-void expect_same(const Scene& got, const Scene& want) {
-  ASSERT_EQ(got.triangle_count(), want.triangle_count());
-  ASSERT_EQ(got.vertices.size(), want.vertices.size());
-  for (std::size_t i = 0; i < got.vertices.size(); ++i) {
-    ASSERT_EQ(std::memcmp(&got.vertices[i], &want.vertices[i], sizeof(glm::vec3)), 0) << "vertex " << i;
-  }
-  EXPECT_EQ(got.two_sided, want.two_sided);
-  EXPECT_EQ(got.material, want.material);
-  EXPECT_EQ(got.report.triangles_read, want.report.triangles_read);
-  EXPECT_EQ(got.report.zero_area_skipped, want.report.zero_area_skipped);
-  EXPECT_EQ(got.report.non_finite_skipped, want.report.non_finite_skipped);
-  EXPECT_EQ(got.report.notes, want.report.notes);
-}
-
 TEST(PlyBinary, FastPathEqualsCgalsReader) {
   const Mesh mesh = make_mesh();
   test::TempDir dir;
@@ -134,11 +121,11 @@ TEST(PlyBinary, FastPathEqualsCgalsReader) {
       std::optional<Result<Scene>> direct = read_binary_ply(bytes);
       ASSERT_TRUE(direct.has_value()) << "this layout takes the fast path";
       ASSERT_TRUE(direct->has_value()) << direct->error().message;
-      expect_same(**direct, *reference);
+      test::expect_same_scene(**direct, *reference);
       test::write_file(dir / "binary.ply", bytes);
       const Result<Scene> loaded = load_polygon_soup((dir / "binary.ply").string());
       ASSERT_TRUE(loaded.has_value()) << loaded.error().message;
-      expect_same(*loaded, *reference);
+      test::expect_same_scene(*loaded, *reference);
     }
 }
 

@@ -15,6 +15,7 @@
 
 #include "io/polygon_soup_loader.h"
 #include "io/stl_binary_reader.h"
+#include "tests/scene_equality.h"
 #include "tests/test_support.h"
 
 namespace exao {
@@ -72,20 +73,6 @@ std::string ascii_stl(const std::vector<Facet>& facets) {
   return out + "endsolid test\n";
 }
 
-void expect_same(const Scene& got, const Scene& want) {
-  ASSERT_EQ(got.triangle_count(), want.triangle_count());
-  ASSERT_EQ(got.vertices.size(), want.vertices.size());
-  for (std::size_t i = 0; i < got.vertices.size(); ++i) {
-    ASSERT_EQ(std::memcmp(&got.vertices[i], &want.vertices[i], sizeof(glm::vec3)), 0) << "vertex " << i;
-  }
-  EXPECT_EQ(got.two_sided, want.two_sided);
-  EXPECT_EQ(got.material, want.material);
-  EXPECT_EQ(got.report.triangles_read, want.report.triangles_read);
-  EXPECT_EQ(got.report.zero_area_skipped, want.report.zero_area_skipped);
-  EXPECT_EQ(got.report.non_finite_skipped, want.report.non_finite_skipped);
-  EXPECT_EQ(got.report.notes, want.report.notes);
-}
-
 TEST(StlBinary, FastPathEqualsCgalsReader) {
   const std::vector<Facet> facets = make_facets();
   test::TempDir dir;
@@ -107,17 +94,17 @@ TEST(StlBinary, FastPathEqualsCgalsReader) {
         read_binary_stl(bytes, [&](std::size_t done, std::size_t total) { last_done = done, last_total = total; });
     ASSERT_TRUE(direct.has_value()) << "a binary STL takes the fast path";
     ASSERT_TRUE(direct->has_value()) << direct->error().message;
-    expect_same(**direct, *reference);
+    test::expect_same_scene(**direct, *reference);
     EXPECT_EQ(last_done, bytes.size());
     EXPECT_EQ(last_total, bytes.size());
     test::write_file(dir / "binary.stl", bytes);
     const Result<Scene> loaded = load_polygon_soup((dir / "binary.stl").string());
     ASSERT_TRUE(loaded.has_value()) << loaded.error().message;
-    expect_same(*loaded, *reference);
+    test::expect_same_scene(*loaded, *reference);
     // Bytes past the stated count are ignored, as CGAL ignores them.
     const std::optional<Result<Scene>> longer = read_binary_stl(bytes + "trailing");
     ASSERT_TRUE(longer.has_value() && longer->has_value());
-    expect_same(**longer, *reference);
+    test::expect_same_scene(**longer, *reference);
   }
 }
 
