@@ -70,6 +70,27 @@ template <class L>
   return dot3<L>(x, y, z, x, y, z);
 }
 
+// A receiver frame in lanes, and Frame::to_local of eight points with it.
+template <class L>
+struct FrameLanes {
+  using F = typename L::F;
+  F ox, oy, oz, tx, ty, tz, bx, by, bz, nx, ny, nz;
+  explicit FrameLanes(const Frame& f)
+      : ox(L::set(f.origin.x)), oy(L::set(f.origin.y)), oz(L::set(f.origin.z)),
+        tx(L::set(f.tangent.x)), ty(L::set(f.tangent.y)), tz(L::set(f.tangent.z)),
+        bx(L::set(f.bitangent.x)), by(L::set(f.bitangent.y)), bz(L::set(f.bitangent.z)),
+        nx(L::set(f.normal.x)), ny(L::set(f.normal.y)), nz(L::set(f.normal.z)) {}
+};
+template <class L>
+[[gnu::always_inline]] inline void to_frame(const FrameLanes<L>& f, const float* x, const float* y, const float* z,
+                                            typename L::F& lx, typename L::F& ly, typename L::F& lz) {
+  using F = typename L::F;
+  const F dx = L::sub(L::load(x), f.ox), dy = L::sub(L::load(y), f.oy), dz = L::sub(L::load(z), f.oz);
+  lx = L::add(L::add(L::mul(dx, f.tx), L::mul(dy, f.ty)), L::mul(dz, f.tz));
+  ly = L::add(L::add(L::mul(dx, f.bx), L::mul(dy, f.by)), L::mul(dz, f.bz));
+  lz = L::add(L::add(L::mul(dx, f.nx), L::mul(dy, f.ny)), L::mul(dz, f.nz));
+}
+
 // Ericson's distance from the origin to triangle (a, b, c) in lanes: origin_triangle_distance2
 // (lut/mask_kernels.h) with every Voronoi region's value computed and the first region that
 // holds chosen, as its early returns choose.
@@ -124,10 +145,7 @@ template <bool Certain>
                                               float g_world, LeafSetup& out) {
   using L = Lanes8;
   using F = typename L::F;
-  const F ox = L::set(frame.origin.x), oy = L::set(frame.origin.y), oz = L::set(frame.origin.z);
-  const F tx = L::set(frame.tangent.x), ty = L::set(frame.tangent.y), tz = L::set(frame.tangent.z);
-  const F bx = L::set(frame.bitangent.x), by = L::set(frame.bitangent.y), bz = L::set(frame.bitangent.z);
-  const F nx = L::set(frame.normal.x), ny = L::set(frame.normal.y), nz = L::set(frame.normal.z);
+  const FrameLanes<L> frame_lanes(frame);
   const F inv_r = L::set(ctx.inv_radius);
   const F zero = L::set(0.0f), one = L::set(1.0f), big = L::set(std::numeric_limits<float>::max());
   const float g_n = g_world * ctx.inv_radius;
@@ -137,16 +155,10 @@ template <bool Certain>
   out.flat = 0;
   for (int l = 0; l < LeafBlock::kLanes; l += L::kWidth) {
     // 1. Into the receiver frame; the horizon (grown by g for certain).
-    const auto local = [&](const float* x, const float* y, const float* z, F& lx, F& ly, F& lz) {
-      const F dx = L::sub(L::load(x + l), ox), dy = L::sub(L::load(y + l), oy), dz = L::sub(L::load(z + l), oz);
-      lx = L::add(L::add(L::mul(dx, tx), L::mul(dy, ty)), L::mul(dz, tz));
-      ly = L::add(L::add(L::mul(dx, bx), L::mul(dy, by)), L::mul(dz, bz));
-      lz = L::add(L::add(L::mul(dx, nx), L::mul(dy, ny)), L::mul(dz, nz));
-    };
     F ax, ay, az, bx_, by_, bz_, cx, cy, cz, ccx, ccy, ccz;
-    local(leaf.v0x, leaf.v0y, leaf.v0z, ax, ay, az);
-    local(leaf.v1x, leaf.v1y, leaf.v1z, bx_, by_, bz_);
-    local(leaf.v2x, leaf.v2y, leaf.v2z, cx, cy, cz);
+    to_frame<L>(frame_lanes, leaf.v0x + l, leaf.v0y + l, leaf.v0z + l, ax, ay, az);
+    to_frame<L>(frame_lanes, leaf.v1x + l, leaf.v1y + l, leaf.v1z + l, bx_, by_, bz_);
+    to_frame<L>(frame_lanes, leaf.v2x + l, leaf.v2y + l, leaf.v2z + l, cx, cy, cz);
     const F horizon = Certain ? L::set(-g_world) : zero;
     auto ok = L::not_(L::both(L::both(L::le(az, horizon), L::le(bz_, horizon)), L::le(cz, horizon)));
     ax = L::mul(ax, inv_r), ay = L::mul(ay, inv_r), az = L::mul(az, inv_r);
@@ -173,7 +185,7 @@ template <bool Certain>
       ok = L::both(ok, L::both(L::le(d, one), L::gt(d, zero)));
     }
     // 4. The influence sphere.
-    local(leaf.cx, leaf.cy, leaf.cz, ccx, ccy, ccz);
+    to_frame<L>(frame_lanes, leaf.cx + l, leaf.cy + l, leaf.cz + l, ccx, ccy, ccz);
     const F reach = L::add(L::load(leaf.radius + l), L::set(Certain ? ctx.radius + g_world : ctx.radius));
     ok = L::both(ok, L::le(dot3<L>(ccx, ccy, ccz, ccx, ccy, ccz), L::mul(reach, reach)));
     // 5. The triangle itself within r (pure only: it is only a cull, see CertainSetup).

@@ -22,11 +22,11 @@ std::string format_stats(const TraversalStats& t, Isa isa) {
   char line[320];
   std::snprintf(line, sizeof line,
                 "per receiver: %.1f nodes visited, %.1f triangles tested (%.1f blocked a new ray) + %.1f cached "
-                "occluders, %.1f plane tests, %.1f sphere masks, %.1f %s vectors + %.1f single samples\n",
+                "occluders, %.1f plane tests, %.1f sphere masks, %.1f %s vectors + %.1f single samples; %llu bits outside their clip spheres\n",
                 static_cast<double>(t.nodes_visited) / n, static_cast<double>(t.triangles_tested) / n,
                 static_cast<double>(t.triangles_blocking) / n, static_cast<double>(t.triangles_cached) / n, static_cast<double>(t.kernels.triangle_masks) / n,
                 static_cast<double>(t.kernels.sphere_masks) / n, vectors / n, isa_name(isa),
-                static_cast<double>(t.kernels.near_samples) / n);
+                static_cast<double>(t.kernels.near_samples) / n, static_cast<unsigned long long>(t.kernels.clip_removed));
   std::string out = line;
   if (t.rays > 0) {
     std::snprintf(line, sizeof line,

