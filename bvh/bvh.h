@@ -64,6 +64,7 @@ struct Bvh {
   /// The scene's cut-outs when any triangle is alpha-tested (PackedTriangle::cutout), else null.
   std::shared_ptr<const Cutouts> cutouts;
   float largest_coordinate = 0.0f;             // max |coordinate| of every vertex (the grazing margin's scale)
+  float box_shrink_for_test = 0.0f;            // world units off the box cull's margin: a test's too-tight cull
   std::vector<LeafBlock, lut::CacheLineAllocator<LeafBlock>> blocks;  // one per leaf
   std::vector<std::uint32_t> leaf_block;       // per triangle that starts a leaf: its block
 

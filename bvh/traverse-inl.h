@@ -20,6 +20,85 @@
 // Both set up a node's children (bvh/node_setup-inl.h) and a leaf's triangles
 // (bvh/leaf_setup-inl.h) in lanes, then finish the survivors one by one.
 
+// The receiver's rays as world-space segments o + t e_i, t in [0, 1] (e_i = r R p_i, p_i the
+// sample's end point in the receiver frame), for the box test of a node's children: the
+// reciprocals of e_i, a cluster at a time when first needed. A component below 1e-30 is nudged
+// to 1e-30, so that no product below is 0 * inf (the slab then holds the ray iff it holds o,
+// as for a zero component).
+template <int Bits>
+struct WorldRays {
+  alignas(64) float ix[Bits], iy[Bits], iz[Bits];
+  std::uint64_t ready = 0;  // bit k: cluster k is computed
+};
+
+template <int Bits>
+inline void prepare_world_rays(const SampleArrays& s, const Frame& f, float r, std::uint64_t clusters,
+                               WorldRays<Bits>& out) {
+  using L = Lanes;
+  const auto tiny = L::set(1e-30f), one = L::set(1.0f);
+  const auto nudge = [&](typename L::F e) { return L::select(L::lt(L::abs(e), tiny), tiny, e); };
+  for (std::uint64_t todo = clusters & ~out.ready; todo; todo &= todo - 1) {
+    const int k = std::countr_zero(todo);
+    for (int j = 0; j < kSampleCluster; j += L::kWidth) {
+      const int i = kSampleCluster * k + j;
+      const auto px = L::mul(L::load(s.px() + i), L::set(r)), py = L::mul(L::load(s.py() + i), L::set(r)),
+                 pz = L::mul(L::load(s.pz() + i), L::set(r));
+      const auto world = [&](const glm::vec3& t, const glm::vec3& b, const glm::vec3& n, int c) {
+        return L::add(L::add(L::mul(px, L::set(t[c])), L::mul(py, L::set(b[c]))), L::mul(pz, L::set(n[c])));
+      };
+      L::store(out.ix + i, L::div(one, nudge(world(f.tangent, f.bitangent, f.normal, 0))));
+      L::store(out.iy + i, L::div(one, nudge(world(f.tangent, f.bitangent, f.normal, 1))));
+      L::store(out.iz + i, L::div(one, nudge(world(f.tangent, f.bitangent, f.normal, 2))));
+    }
+  }
+  out.ready |= clusters;
+}
+
+// The rays of `clusters` whose segment meets child k's box grown by `grow` (world units): the
+// slab test. A cull only: grow covers the rounding of the frame, of the triangles' plane tests
+// and of these products (a few ulps of the coordinates, far below grow), so a ray that meets a
+// triangle of the child meets the grown box.
+template <int Bits>
+[[nodiscard]] inline Mask<Bits> box_mask(const Node& node, int k, const glm::vec3& o, float grow,
+                                         const WorldRays<Bits>& rays, std::uint64_t clusters) {
+  using L = Lanes;
+  const auto lx = L::set(node.lo_x[k] - grow - o.x), ly = L::set(node.lo_y[k] - grow - o.y),
+             lz = L::set(node.lo_z[k] - grow - o.z);
+  const auto hx = L::set(node.hi_x[k] + grow - o.x), hy = L::set(node.hi_y[k] + grow - o.y),
+             hz = L::set(node.hi_z[k] + grow - o.z);
+  const auto zero = L::set(0.0f), one = L::set(1.0f);
+  Mask<Bits> out;
+  for (; clusters; clusters &= clusters - 1) {
+    const int c = std::countr_zero(clusters);
+    std::uint64_t bits = 0;
+    for (int j = 0; j < kSampleCluster; j += L::kWidth) {
+      const int i = kSampleCluster * c + j;
+      const auto ix = L::load(rays.ix + i), iy = L::load(rays.iy + i), iz = L::load(rays.iz + i);
+      const auto x0 = L::mul(lx, ix), x1 = L::mul(hx, ix);
+      const auto y0 = L::mul(ly, iy), y1 = L::mul(hy, iy);
+      const auto z0 = L::mul(lz, iz), z1 = L::mul(hz, iz);
+      const auto enter = L::max(L::max(L::min(x0, x1), L::min(y0, y1)), L::max(L::min(z0, z1), zero));
+      const auto exit = L::min(L::min(L::max(x0, x1), L::max(y0, y1)), L::min(L::max(z0, z1), one));
+      bits |= L::bits(L::le(enter, exit)) << j;
+    }
+    out.words[c * kSampleCluster / 64] |= bits << (c * kSampleCluster % 64);
+  }
+  return out;
+}
+
+// The clusters of `open` that child k's sphere can reach (all when the receiver is inside it).
+template <int Bits>
+[[nodiscard]] inline std::uint64_t child_clusters(const KernelContext& ctx, const ChildSetup& children, int k,
+                                                  std::uint64_t open, lut::KernelCounters* counters) {
+  std::uint64_t clusters = open & kAllClusters<Bits>;
+  const SphereTest test = children.test(k);
+  if (test.kind == SphereTest::Kind::Rays && ctx.cull_clusters && test.cone_sin < 1.0f) {
+    clusters &= sphere_reach<Bits>(*ctx.samples, test.axis, test.cone_cos, test.cone_sin, ctx.cluster_slack);
+  }
+  if (counters) counters->cluster_tests += static_cast<std::uint64_t>(std::popcount(clusters));
+  return clusters;
+}
+
 // A leaf block of the triangles t[0..n) of bvh.packed (padding lanes NaN, as the builder's): the
 // same floats as their own leaves' blocks, so leaf_setup gives the same bits.
 inline void gather_block(const Bvh& bvh, const std::uint32_t* t, int n, LeafBlock& block) {
@@ -123,6 +202,13 @@ template <int Bits, bool Stats, bool Certain>
     slack = std::max(slack, 2.0f * g);
   }
   const float reach2 = (r + slack) * (r + slack);
+  // Node masks from the children's boxes where every triangle mask lies in its box (exact
+  // planes; certain masks grown by g < slack); a table's masks carry its cells' errors, and
+  // only the sphere holds them (lut/sphere_test.h). The boxes' margin covers the rounding of
+  // the frame and of the plane tests.
+  const bool use_boxes = ctx.exact || Certain;
+  const float box_grow = 2e-5f * (bvh.largest_coordinate + r) + slack - bvh.box_shrink_for_test;
+  WorldRays<Bits> world_rays;
   [[maybe_unused]] Mask<Bits> maybe;
   [[maybe_unused]] std::uint32_t units = 0;
   [[maybe_unused]] const float rays_per_unit = budget ? budget->rays_per_unit : 0.0f;
@@ -181,7 +267,17 @@ template <int Bits, bool Stats, bool Certain>
     ChildSetup children;
     for (std::uint32_t live = child_setup(node, frame, reach2, slack, g, r, children); live; live &= live - 1) {
       const int k = std::countr_zero(live);
-      child_mask[k] = sphere_test_mask<Bits>(ctx, children.test(k), open, counters);
+      if (use_boxes) {
+        // The open clusters the cone of the child's sphere reaches, then the rays of those that
+        // meet its box: tighter than the sphere's own rays where the child is flat or long
+        // (most of a mesh), and cheaper.
+        const std::uint64_t wanted = child_clusters<Bits>(ctx, children, k, open, counters);
+        if (!wanted) continue;
+        prepare_world_rays<Bits>(*ctx.samples, frame, r, wanted, world_rays);
+        child_mask[k] = box_mask<Bits>(node, k, o, box_grow, world_rays, wanted);
+      } else {
+        child_mask[k] = sphere_test_mask<Bits>(ctx, children.test(k), open, counters);
+      }
       estimate[k] = popcount_and_not(child_mask[k], blocked);
       if (estimate[k] == 0) continue;
       order[survivors++] = k;

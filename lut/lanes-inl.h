@@ -63,6 +63,11 @@ struct Lanes {
   static M le(F a, F b) { return _mm512_cmp_ps_mask(a, b, _CMP_LE_OQ); }
   static M both(M a, M b) { return static_cast<M>(a & b); }
   static std::uint64_t bits(M m) { return m; }
+  static void store(float* p, F a) { _mm512_store_ps(p, a); }
+  static F div(F a, F b) { return _mm512_div_ps(a, b); }
+  static M lt(F a, F b) { return _mm512_cmp_ps_mask(a, b, _CMP_LT_OQ); }
+  static F abs(F a) { return _mm512_abs_ps(a); }
+  static F select(M m, F if_true, F if_false) { return _mm512_mask_blend_ps(m, if_false, if_true); }
 };
 
 #elif EXAO_KERNEL_LANES == 8
@@ -81,6 +86,11 @@ struct Lanes {
   static M le(F a, F b) { return _mm256_cmp_ps(a, b, _CMP_LE_OQ); }
   static M both(M a, M b) { return _mm256_and_ps(a, b); }
   static std::uint64_t bits(M m) { return static_cast<std::uint32_t>(_mm256_movemask_ps(m)); }
+  static void store(float* p, F a) { _mm256_store_ps(p, a); }
+  static F div(F a, F b) { return _mm256_div_ps(a, b); }
+  static M lt(F a, F b) { return _mm256_cmp_ps(a, b, _CMP_LT_OQ); }
+  static F abs(F a) { return _mm256_andnot_ps(_mm256_set1_ps(-0.0f), a); }
+  static F select(M m, F if_true, F if_false) { return _mm256_blendv_ps(if_false, if_true, m); }
 };
 #elif EXAO_KERNEL_LANES == 4
 struct Lanes {
@@ -98,6 +108,11 @@ struct Lanes {
   static M le(F a, F b) { return _mm_cmple_ps(a, b); }
   static M both(M a, M b) { return _mm_and_ps(a, b); }
   static std::uint64_t bits(M m) { return static_cast<std::uint32_t>(_mm_movemask_ps(m)); }
+  static void store(float* p, F a) { _mm_store_ps(p, a); }
+  static F div(F a, F b) { return _mm_div_ps(a, b); }
+  static M lt(F a, F b) { return _mm_cmplt_ps(a, b); }
+  static F abs(F a) { return _mm_andnot_ps(_mm_set1_ps(-0.0f), a); }
+  static F select(M m, F if_true, F if_false) { return _mm_or_ps(_mm_and_ps(m, if_true), _mm_andnot_ps(m, if_false)); }
 };
 #else
 #error "EXAO_KERNEL_LANES must be 1, 4, 8 or 16 (include lut/kernel_target.h first)"

@@ -96,6 +96,35 @@ TEST(Bvh, EqualsBruteOnRoom) {
         for (const lut::MaskMode mode : {lut::MaskMode::Lut, lut::MaskMode::Exact}) expect_bvh_equals_brute(*c, n, f, mode);
 }
 
+// The box cull of the children (bvh/traverse-inl.h) is as tight as it may be: a box shrunk by a
+// thousandth of the scene drops rays that its triangles block.
+TEST(Bvh, ATooTightBoxCullIsCaught) {
+  const Case c = room_case();
+  const float diagonal = c.scene.bounds().diagonal();
+  Result<SamplePattern> pattern = make_sample_pattern(128, Falloff::Constant);
+  ASSERT_TRUE(pattern.has_value());
+  Result<ShadowRays> rays = make_shadow_rays(*pattern, 0.05f * diagonal, 1e-4f * diagonal);
+  ASSERT_TRUE(rays.has_value());
+  Result<lut::MaskEngine> engine = lut::MaskEngine::build(*rays, lut::MaskMode::Exact);
+  ASSERT_TRUE(engine.has_value());
+  const lut::TriangleSet triangles = lut::TriangleSet::build(c.scene);
+  Result<bvh::Bvh> tree = bvh::Bvh::build(triangles, {});
+  ASSERT_TRUE(tree.has_value());
+  const std::vector<Receiver> receivers = receivers_for(c);
+  const MaskSet expected = lut::brute_occlusion(*engine, triangles, receivers);
+  const auto differing = [&] {
+    const MaskSet got = bvh::occlusion(*tree, *engine, receivers);
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < receivers.size(); ++i) {
+      n += !std::equal(got.row(i).begin(), got.row(i).end(), expected.row(i).begin());
+    }
+    return n;
+  };
+  EXPECT_EQ(differing(), 0u);
+  tree->box_shrink_for_test = 1e-3f * diagonal;
+  EXPECT_GT(differing(), receivers.size() / 100) << "a box cull too tight by 1e-3 of the scene went unnoticed";
+}
+
 TEST(Bvh, EqualsBruteWithEveryBranchingAndLeafSize) {
   const Case c = room_case();
   for (const int branching : {2, 4})
