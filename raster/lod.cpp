@@ -91,12 +91,11 @@ void append_mesh(const Mesh& mesh, bool two_sided, Scene& out) {
 }  // namespace
 
 Result<LodFilter> parse_lod_filter(const std::string& name) {
-  if (name == "envelope") return LodFilter::Envelope;
-  if (name == "distance") return LodFilter::BoundedDistance;
-  return fail("lod_filter: unknown filter '" + name + "' (envelope or distance)");
+  if (const std::optional<LodFilter> f = parse_enum<LodFilter>(name)) return *f;
+  return fail("lod_filter: unknown filter '" + name + "' (" + name_list<LodFilter>() + ")");
 }
 
-const char* lod_filter_name(LodFilter filter) { return filter == LodFilter::Envelope ? "envelope" : "distance"; }
+const char* lod_filter_name(LodFilter filter) { return name_of(filter); }
 
 Result<void> check_lod_options(const LodOptions& options) {
   if (!(options.eps1 > 0.0f) || !std::isfinite(options.eps1)) {

@@ -38,26 +38,7 @@ bool needs_fragments(Method m) {
 
 }  // namespace
 
-const char* method_name(Method method) {
-  switch (method) {
-    case Method::Hbao: return "hbao";
-    case Method::HbaoPlus: return "hbao+";
-    case Method::Vao: return "vao";
-    case Method::SdHbao: return "sdao";
-    case Method::SdSvao: return "svao";
-    case Method::RtSvao: return "rtsvao";
-    case Method::Abuffer: return "abuffer";
-    case Method::StereoHbaoPlus: return "shbao+";
-    case Method::StereoHbaoPlus2d: return "shbao+2d";
-    case Method::SdHbaoPlus: return "sdao+";
-    case Method::MvSdHbaoPlus: return "mvsdao+";
-    case Method::RtSvaoRays: return "rtsvao-rays";
-    case Method::AbufferM4: return "abuffer-m4";
-    case Method::AbufferM8: return "abuffer-m8";
-    case Method::AbufferOit: return "abuffer-oit";
-  }
-  return "?";
-}
+const char* method_name(Method method) { return name_of(method); }
 
 const char* method_label(Method method) {
   switch (method) {
@@ -81,16 +62,11 @@ const char* method_label(Method method) {
 }
 
 std::vector<Method> all_methods() {
-  return {Method::Hbao,      Method::HbaoPlus,       Method::Vao,          Method::SdHbao,       Method::SdSvao,
-          Method::RtSvao,    Method::Abuffer,        Method::StereoHbaoPlus, Method::StereoHbaoPlus2d, Method::SdHbaoPlus,
-          Method::MvSdHbaoPlus, Method::RtSvaoRays,  Method::AbufferM4,    Method::AbufferM8,    Method::AbufferOit};
+  constexpr auto methods = all_values<Method>();
+  return {methods.begin(), methods.end()};
 }
 
-std::string all_method_names() {
-  std::string out;
-  for (const Method m : all_methods()) out += (out.empty() ? "" : ", ") + std::string(method_name(m));
-  return out;
-}
+std::string all_method_names() { return name_list<Method>(", "); }
 
 bool is_stereo(Method method) { return method == Method::StereoHbaoPlus || method == Method::StereoHbaoPlus2d; }
 

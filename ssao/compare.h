@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "core/enum_names.h"
 #include "core/error.h"
 #include "core/receiver_frame.h"
 #include "core/scene.h"
@@ -35,6 +36,24 @@ enum class Method {
   AbufferM8,         // m = 8
   AbufferOit,        // seed 004 Sec. III Eq. 2-4: transparent receivers, blended
 };
+
+[[nodiscard]] constexpr auto enum_names(Method) {
+  return std::to_array<EnumName<Method>>({{Method::Hbao, "hbao"},
+                                          {Method::HbaoPlus, "hbao+"},
+                                          {Method::Vao, "vao"},
+                                          {Method::SdHbao, "sdao"},
+                                          {Method::SdSvao, "svao"},
+                                          {Method::RtSvao, "rtsvao"},
+                                          {Method::Abuffer, "abuffer"},
+                                          {Method::StereoHbaoPlus, "shbao+"},
+                                          {Method::StereoHbaoPlus2d, "shbao+2d"},
+                                          {Method::SdHbaoPlus, "sdao+"},
+                                          {Method::MvSdHbaoPlus, "mvsdao+"},
+                                          {Method::RtSvaoRays, "rtsvao-rays"},
+                                          {Method::AbufferM4, "abuffer-m4"},
+                                          {Method::AbufferM8, "abuffer-m8"},
+                                          {Method::AbufferOit, "abuffer-oit"}});
+}
 
 /// "hbao", "hbao+", "vao", "sdao", "svao", "rtsvao", "abuffer", "shbao+", "shbao+2d", "sdao+",
 /// "mvsdao+", "rtsvao-rays", "abuffer-m4", "abuffer-m8", "abuffer-oit".
