@@ -226,7 +226,7 @@ int run_compare(const CompareCommandOptions& o) {
   greys.push_back(ssao::grey_image(main.exact, main.view.valid, main.view.width, main.view.height));
   std::vector<AoError> stats;
   for (const ssao::MethodResult& m : main.methods) {
-    const std::string name = slug(ssao::method_name(m.method));
+    const std::string name = slug(ssao::compare_method_name(m.method));
     if (auto ok = write_ao(main.view, m.ao, dir / name); !ok) return report(ok.error());
     heats.push_back(ssao::heat_map(m.ao, main.exact, main.view.valid, main.view.width, main.view.height));
     if (auto ok = write_rgb(heats.back(), (dir / (name + "-error.png")).string()); !ok) return report(ok.error());
@@ -276,7 +276,7 @@ int run_compare(const CompareCommandOptions& o) {
   for (std::size_t i = 0; i < main.methods.size(); ++i) {
     const ssao::MethodResult& m = main.methods[i];
     const AoError& s = stats[i];
-    nlohmann::json row{{"name", ssao::method_name(m.method)}, {"label", ssao::method_label(m.method)},
+    nlohmann::json row{{"name", ssao::compare_method_name(m.method)}, {"label", ssao::method_label(m.method)},
                        {"mean_abs", s.mean_abs()}, {"bias", s.bias()}, {"rmse", s.rmse()}, {"within_255", s.within_255_share()},
                        {"within_16", s.within_16_share()}, {"seconds", m.seconds},
                        {"map_seconds", m.map_seconds}};
@@ -294,7 +294,7 @@ int run_compare(const CompareCommandOptions& o) {
         if (full.method != reference) continue;
         const AoError d = ssao::error_stats(m.ao, full.ao, main.view.valid);
         const double ratio = full.seconds > 0.0 ? m.seconds / full.seconds : 0.0;
-        row["against"] = {{"method", ssao::method_name(reference)}, {"mean_abs", d.mean_abs()}, {"rmse", d.rmse()},
+        row["against"] = {{"method", ssao::compare_method_name(reference)}, {"mean_abs", d.mean_abs()}, {"rmse", d.rmse()},
                           {"within_255", d.within_255_share()}, {"time_ratio", ratio}};
         versus_full.push_back(std::string(ssao::method_label(m.method)) + ": " +
                               (m.fragments ? std::to_string(m.fragments) + " fragments, " : std::string()) + "mean |AO - " +

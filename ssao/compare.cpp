@@ -38,7 +38,7 @@ bool needs_fragments(Method m) {
 
 }  // namespace
 
-const char* method_name(Method method) { return name_of(method); }
+const char* compare_method_name(Method method) { return name_of(method); }
 
 const char* method_label(Method method) {
   switch (method) {
@@ -66,7 +66,7 @@ std::vector<Method> all_methods() {
   return {methods.begin(), methods.end()};
 }
 
-std::string all_method_names() { return name_list<Method>(", "); }
+std::string all_compare_method_names() { return name_list<Method>(", "); }
 
 bool is_stereo(Method method) { return method == Method::StereoHbaoPlus || method == Method::StereoHbaoPlus2d; }
 
@@ -79,21 +79,21 @@ Result<std::vector<Method>> parse_methods(const std::string& list) {
   while (std::getline(in, name, ',')) {
     if (name == "all") {
       for (const Method m : all_methods()) {
-        if (std::find(out.begin(), out.end(), m) != out.end()) return fail("methods: '" + std::string(method_name(m)) + "' is listed twice");
+        if (std::find(out.begin(), out.end(), m) != out.end()) return fail("methods: '" + std::string(compare_method_name(m)) + "' is listed twice");
         out.push_back(m);
       }
       continue;
     }
     bool found = false;
     for (const Method m : all_methods()) {
-      if (name != method_name(m)) continue;
+      if (name != compare_method_name(m)) continue;
       if (std::find(out.begin(), out.end(), m) != out.end()) return fail("methods: '" + name + "' is listed twice");
       out.push_back(m);
       found = true;
     }
-    if (!found) return fail("methods: unknown method '" + name + "' (all, " + all_method_names() + ")");
+    if (!found) return fail("methods: unknown method '" + name + "' (all, " + all_compare_method_names() + ")");
   }
-  if (out.empty()) return fail("methods: the list is empty (all, " + all_method_names() + ")");
+  if (out.empty()) return fail("methods: the list is empty (all, " + all_compare_method_names() + ")");
   return out;
 }
 

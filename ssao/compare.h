@@ -55,15 +55,16 @@ enum class Method {
                                           {Method::AbufferOit, "abuffer-oit"}});
 }
 
-/// "hbao", "hbao+", "vao", "sdao", "svao", "rtsvao", "abuffer", "shbao+", "shbao+2d", "sdao+",
-/// "mvsdao+", "rtsvao-rays", "abuffer-m4", "abuffer-m8", "abuffer-oit".
-[[nodiscard]] const char* method_name(Method method);
+/// The name of a method of `exao compare` (not engine::method_name's AO backends): "hbao",
+/// "hbao+", "vao", "sdao", "svao", "rtsvao", "abuffer", "shbao+", "shbao+2d", "sdao+", "mvsdao+",
+/// "rtsvao-rays", "abuffer-m4", "abuffer-m8", "abuffer-oit".
+[[nodiscard]] const char* compare_method_name(Method method);
 /// "HBAO", "HBAO+", "VAO", "SD-HBAO", "SD-SVAO", "RT-SVAO", "A-BUFFER", "S-HBAO+", "S-HBAO+ 2D",
 /// "SD-HBAO+", "MV-SD-HBAO+", "RT-SVAO RAYS", "A-BUFFER M=4", "A-BUFFER M=8", "A-BUFFER OIT".
 [[nodiscard]] const char* method_label(Method method);
 [[nodiscard]] std::vector<Method> all_methods();
 /// The names of all_methods(), comma-separated.
-[[nodiscard]] std::string all_method_names();
+[[nodiscard]] std::string all_compare_method_names();
 /// A comma-separated list of names, each at most once, at least one; "all" is every method.
 [[nodiscard]] Result<std::vector<Method>> parse_methods(const std::string& list);
 /// Whether the method's passes include the stereo filter instead of the mono blur.
