@@ -137,6 +137,41 @@ Result<void> write_row_png(const std::string& folder, const bench::Run& run, con
   return write_png(image, folder + name + ".png");
 }
 
+// Pixel receivers come from the scene as every command loads it; bake receivers from the
+// scene as the bake reads it (a glTF's default scene, or the soup converted with an atlas).
+Result<bench::Workload> open_workload(const BenchOptions& options, const bench::Plan& plan) {
+  bench::Workload workload;
+  workload.name = options.scene.scene;
+  if (!plan.bake) {
+    Result<Scene> scene = open_scene(options.scene);
+    if (!scene) return std::unexpected(scene.error());
+    workload.scene = std::move(*scene);
+  } else {
+    Result<bake::Document> document = bench::open_document(options.scene.scene, *plan.bake);
+    if (!document) return std::unexpected(document.error());
+    workload.document = std::move(*document);
+    workload.scene = workload.document->scene();
+  }
+  Result<View> view = choose_view(options.camera, workload.scene);
+  if (!view) return std::unexpected(view.error());
+  workload.camera = view->camera;
+  workload.width = view->width;
+  workload.height = view->height;
+  return workload;
+}
+
+// --json, --svg and --markdown.
+Result<void> write_outputs(const BenchOptions& options, const bench::Report& results) {
+  if (!options.json.empty()) {
+    if (auto ok = write_bench_json(results, options.json); !ok) return ok;
+  }
+  if (!options.svg.empty()) {
+    if (auto ok = write_bench_svg(results, options.svg); !ok) return ok;
+  }
+  if (!options.markdown.empty()) return write_bench_markdown(results, options.markdown);
+  return {};
+}
+
 // The library's errors name its options; these are the flags that stand for them here.
 const FlagOverrides kPlanFlags{{"method", "--methods"}, {"repeats", "--repeats"}};
 const FlagOverrides kRunFlags{{"shard", "--shard"}};
@@ -165,25 +200,9 @@ int run_bench(const BenchOptions& options, const Invocation&) {
   Result<bench::Plan> plan = bench::check_plan(std::move(*parsed));
   if (!plan) return report(plan.error(), kPlanFlags);
 
-  // Pixel receivers come from the scene as every command loads it; bake receivers from the
-  // scene as the bake reads it (a glTF's default scene, or the soup converted with an atlas).
-  bench::Workload workload;
-  workload.name = options.scene.scene;
-  if (on_pixels) {
-    Result<Scene> scene = open_scene(options.scene);
-    if (!scene) return report(scene.error());
-    workload.scene = std::move(*scene);
-  } else {
-    Result<bake::Document> document = bench::open_document(options.scene.scene, *plan->bake);
-    if (!document) return report(document.error());
-    workload.document = std::move(*document);
-    workload.scene = workload.document->scene();
-  }
-  Result<View> view = choose_view(options.camera, workload.scene);
-  if (!view) return report(view.error());
-  workload.camera = view->camera;
-  workload.width = view->width;
-  workload.height = view->height;
+  Result<bench::Workload> opened = open_workload(options, *plan);
+  if (!opened) return report(opened.error());
+  bench::Workload& workload = *opened;
 
   Result<bench::Setup> setup = bench::prepare(*plan, workload);
   if (!setup) return report(setup.error());
@@ -213,15 +232,7 @@ int run_bench(const BenchOptions& options, const Invocation&) {
   };
   Result<bench::Report> results = bench::run(*plan, workload, *setup, events);
   if (!results) return report(results.error(), kRunFlags);
-  if (!options.json.empty()) {
-    if (auto ok = write_bench_json(*results, options.json); !ok) return report(ok.error());
-  }
-  if (!options.svg.empty()) {
-    if (auto ok = write_bench_svg(*results, options.svg); !ok) return report(ok.error());
-  }
-  if (!options.markdown.empty()) {
-    if (auto ok = write_bench_markdown(*results, options.markdown); !ok) return report(ok.error());
-  }
+  if (auto ok = write_outputs(options, *results); !ok) return report(ok.error());
   return 0;
 }
 
