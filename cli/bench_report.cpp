@@ -131,12 +131,7 @@ Result<void> write_bench_markdown(const bench::Report& report, const std::string
     }
     md << line;
   }
-  return write_atomically(path, [&](const std::string& temp) -> Result<void> {
-    std::ofstream out(temp);
-    out << md.str();
-    if (!out.flush()) return fail(path + ": write failed");
-    return {};
-  });
+  return write_text(md.str(), path);
 }
 
 Result<void> write_bench_svg(const bench::Report& report, const std::string& path) {
