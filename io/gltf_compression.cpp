@@ -10,14 +10,14 @@
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <limits>
 #include <map>
 #include <optional>
 #include <string_view>
 
 #include <nlohmann/json.hpp>
+
+#include "io/file_bytes.h"
 
 namespace exao::gltf {
 namespace {
@@ -454,11 +454,10 @@ void drop_extension(std::vector<std::string>& list, std::string_view name) {
 
 bool load_file(tinygltf::TinyGLTF& context, tinygltf::Model& model, std::string& err, std::string& warn,
                const std::string& path, bool binary) {
-  std::ifstream in(path, std::ios::binary);
-  std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::vector<unsigned char> bytes;
   const std::string base = std::filesystem::path(path).parent_path().string();
   const std::string base_dir = base.empty() ? "." : base;
-  if (!in.eof() && in.fail()) {
+  if (!read_file_bytes(path, bytes)) {
     err = "cannot read the file";
     return false;
   }
