@@ -376,6 +376,65 @@ struct BatchStop {
   }
 };
 
+// The receivers a batch computes: the good ones (indices into the batch); each bad one set
+// aside (AO NaN, mask zero, its status), the first named for the batch's error.
+struct SetAside {
+  std::vector<std::uint32_t> good;
+  std::size_t bad = 0;
+  std::string first_bad;
+
+  [[nodiscard]] Status status(std::size_t receivers) const {
+    if (bad == 0) return {};
+    return invalid(first_bad + " (" + std::to_string(bad) + " of " + std::to_string(receivers) +
+                   " receivers are bad: their AO is NaN; the others were computed)");
+  }
+};
+
+SetAside set_aside_bad(std::span<const Receiver> receivers, std::span<std::uint64_t> words, std::span<float> ao,
+                       const BatchOptions& batch, std::size_t per) {
+  SetAside out;
+  out.good.reserve(receivers.size());
+  for (std::size_t i = 0; i < receivers.size(); ++i) {
+    const char* problem = receiver_problem(receivers[i]);
+    if (!batch.statuses.empty()) batch.statuses[i] = problem ? StatusCode::InvalidArgument : StatusCode::Ok;
+    if (!problem) {
+      out.good.push_back(static_cast<std::uint32_t>(i));
+      continue;
+    }
+    if (out.bad++ == 0) out.first_bad = "receivers[" + std::to_string(i) + "]: " + problem;
+    if (!ao.empty()) ao[i] = std::numeric_limits<float>::quiet_NaN();
+    if (!words.empty()) std::fill_n(words.begin() + static_cast<std::ptrdiff_t>(i * per), per, std::uint64_t{0});
+  }
+  return out;
+}
+
+// The engine's progress callback for batch.progress: the caller counts its own receivers (the
+// `bad` ones done from the start); a false answer or a throw stops the batch through `stop`.
+ProgressCallback batch_progress(const BatchOptions& batch, BatchStop& stop, std::size_t bad) {
+  if (!batch.progress) return {};
+  return [&batch, &stop, bad](std::size_t done, std::size_t total) {
+    if (stop.reason.load(std::memory_order_relaxed) != 0) throw StopBatch{};
+    const std::size_t at = done + bad, of = total + bad;
+    bool go = true;
+    try {
+      go = batch.progress(at, of);
+    } catch (const std::exception& e) {
+      stop.stop(2, e.what(), at, of);
+    } catch (...) {
+      stop.stop(2, "an exception that is not a std::exception", at, of);
+    }
+    if (!go) stop.stop(1, {}, at, of);
+  };
+}
+
+// The engine's counters into the caller's.
+void add_stats(const engine::Stats& stats, WorkStats& out) {
+  out.receivers += stats.traversal.receivers;
+  out.nodes_visited += stats.traversal.nodes_visited;
+  out.triangles_tested += stats.traversal.triangles_tested;
+  out.triangles_blocking += stats.traversal.triangles_blocking;
+}
+
 // A batch into `words` (count * mask_words) and/or `ao` (count), either may be empty.
 [[nodiscard]] Status run_batch(const Engine::Impl* impl, std::span<const Receiver> receivers, std::span<std::uint64_t> words,
                                std::span<float> ao, const BatchOptions& batch) {
@@ -384,29 +443,10 @@ struct BatchStop {
     return invalid("batch.statuses: must hold 0 entries or one per receiver (" + std::to_string(receivers.size()) +
                    "), holds " + std::to_string(batch.statuses.size()));
   }
-  // Bad receivers are set aside (AO NaN, mask zero, their status); the others are computed.
   const std::size_t per = impl->info.mask_words;
-  std::vector<std::uint32_t> good;
-  good.reserve(receivers.size());
-  std::size_t bad = 0;
-  std::string first_bad;
-  for (std::size_t i = 0; i < receivers.size(); ++i) {
-    const char* problem = receiver_problem(receivers[i]);
-    if (!batch.statuses.empty()) batch.statuses[i] = problem ? StatusCode::InvalidArgument : StatusCode::Ok;
-    if (!problem) {
-      good.push_back(static_cast<std::uint32_t>(i));
-      continue;
-    }
-    if (bad++ == 0) first_bad = "receivers[" + std::to_string(i) + "]: " + problem;
-    if (!ao.empty()) ao[i] = std::numeric_limits<float>::quiet_NaN();
-    if (!words.empty()) std::fill_n(words.begin() + static_cast<std::ptrdiff_t>(i * per), per, std::uint64_t{0});
-  }
-  const auto bad_batch = [&]() -> Status {
-    if (bad == 0) return {};
-    return invalid(first_bad + " (" + std::to_string(bad) + " of " + std::to_string(receivers.size()) +
-                   " receivers are bad: their AO is NaN; the others were computed)");
-  };
-  if (good.empty()) return bad_batch();
+  const SetAside sorted = set_aside_bad(receivers, words, ao, batch, per);
+  const std::vector<std::uint32_t>& good = sorted.good;
+  if (good.empty()) return sorted.status(receivers.size());
   // The good receivers, compacted; results go to scratch arrays when some were set aside.
   const bool compact = good.size() != receivers.size();
   std::vector<exao::Receiver> internal(good.size());
@@ -416,22 +456,7 @@ struct BatchStop {
   engine::Stats stats;
   engine::RunOptions run;
   BatchStop stop;
-  if (batch.progress) {
-    run.progress = [&](std::size_t done, std::size_t total) {
-      if (stop.reason.load(std::memory_order_relaxed) != 0) throw StopBatch{};
-      // The caller counts its own receivers, the bad ones done from the start.
-      const std::size_t at = done + bad, of = total + bad;
-      bool go = true;
-      try {
-        go = batch.progress(at, of);
-      } catch (const std::exception& e) {
-        stop.stop(2, e.what(), at, of);
-      } catch (...) {
-        stop.stop(2, "an exception that is not a std::exception", at, of);
-      }
-      if (!go) stop.stop(1, {}, at, of);
-    };
-  }
+  run.progress = batch_progress(batch, stop, sorted.bad);
   if (batch.stats) run.stats = &stats;
   if (batch.embree_rays) run.embree_rays = static_cast<exao::EmbreeRays>(static_cast<int>(*batch.embree_rays));
   engine::Outputs outputs;
@@ -452,13 +477,8 @@ struct BatchStop {
       if (!words.empty()) std::copy_n(words_scratch.begin() + static_cast<std::ptrdiff_t>(k * per), per, words.begin() + static_cast<std::ptrdiff_t>(i * per));
     }
   }
-  if (batch.stats) {
-    batch.stats->receivers += stats.traversal.receivers;
-    batch.stats->nodes_visited += stats.traversal.nodes_visited;
-    batch.stats->triangles_tested += stats.traversal.triangles_tested;
-    batch.stats->triangles_blocking += stats.traversal.triangles_blocking;
-  }
-  return bad_batch();
+  if (batch.stats) add_stats(stats, *batch.stats);
+  return sorted.status(receivers.size());
 }
 
 }  // namespace

@@ -150,60 +150,92 @@ bool pack(std::vector<Chart>& charts, std::span<const std::uint32_t> order, doub
   return true;
 }
 
-}  // namespace
+constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
 
-Result<AtlasMesh> box_atlas(std::span<const glm::vec3> positions, std::span<const std::uint32_t> triangles, int size,
-                            int padding) {
+// Each triangle's projection axis: the one its normal is closest to.
+std::vector<int> triangle_axes(std::span<const glm::vec3> positions, std::span<const std::uint32_t> triangles) {
   const std::size_t count = triangles.size() / 3;
   std::vector<int> axis(count);
   for (std::size_t t = 0; t < count; ++t) {
     const glm::vec3 a = positions[triangles[3 * t]], b = positions[triangles[3 * t + 1]], c = positions[triangles[3 * t + 2]];
     axis[t] = dominant_axis(glm::cross(b - a, c - a));
   }
-  // Charts grow from a seed across shared edges (vertices welded by position, so UV seams of
-  // the input do not cut them) to neighbours of the same axis whose projection does not overlap
-  // the chart's: so no chart folds onto itself, however the surface winds.
-  std::vector<std::uint32_t> weld(positions.size());
-  {
-    std::unordered_map<PositionKey, std::uint32_t, PositionKeyHash> first;
-    first.reserve(positions.size());
-    for (std::size_t v = 0; v < positions.size(); ++v) {
-      weld[v] = first.try_emplace(position_key(positions[v]), static_cast<std::uint32_t>(v)).first->second;
-    }
-  }
-  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> edge_triangles;
-  edge_triangles.reserve(count * 3);
-  const auto edge_key = [&](std::size_t t, int e) {
+  return axis;
+}
+
+// The triangles on each edge, vertices welded by position (so UV seams of the input do not cut
+// the charts): edge e of triangle t runs from corner e to corner e + 1.
+struct Edges {
+  std::span<const std::uint32_t> triangles;
+  std::vector<std::uint32_t> weld;
+  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> triangles_on;
+
+  [[nodiscard]] std::uint64_t key(std::size_t t, int e) const {
     std::uint32_t u = weld[triangles[3 * t + static_cast<std::size_t>(e)]];
     std::uint32_t v = weld[triangles[3 * t + static_cast<std::size_t>((e + 1) % 3)]];
     if (u > v) std::swap(u, v);
     return static_cast<std::uint64_t>(u) << 32 | v;
-  };
-  for (std::size_t t = 0; t < count; ++t) {
-    for (int e = 0; e < 3; ++e) edge_triangles[edge_key(t, e)].push_back(static_cast<std::uint32_t>(t));
   }
-  std::vector<Flat> flats(count);
+};
+
+Edges welded_edges(std::span<const glm::vec3> positions, std::span<const std::uint32_t> triangles) {
+  Edges edges{triangles, std::vector<std::uint32_t>(positions.size()), {}};
+  {
+    std::unordered_map<PositionKey, std::uint32_t, PositionKeyHash> first;
+    first.reserve(positions.size());
+    for (std::size_t v = 0; v < positions.size(); ++v) {
+      edges.weld[v] = first.try_emplace(position_key(positions[v]), static_cast<std::uint32_t>(v)).first->second;
+    }
+  }
+  const std::size_t count = triangles.size() / 3;
+  edges.triangles_on.reserve(count * 3);
+  for (std::size_t t = 0; t < count; ++t) {
+    for (int e = 0; e < 3; ++e) edges.triangles_on[edges.key(t, e)].push_back(static_cast<std::uint32_t>(t));
+  }
+  return edges;
+}
+
+// Every triangle projected on its axis, the rounding of shared vertices relative to the model's
+// size (eps), and the overlap grid's cell: twice the mean projected extent.
+struct Projected {
+  std::vector<Flat> flats;
+  double eps = 0.0;
+  double cell = 1.0;
+};
+
+Projected project_triangles(std::span<const glm::vec3> positions, std::span<const std::uint32_t> triangles,
+                            const std::vector<int>& axis) {
+  const std::size_t count = triangles.size() / 3;
+  Projected out;
+  out.flats.resize(count);
   double extent_sum = 0.0;
   glm::dvec3 lo3(std::numeric_limits<double>::infinity()), hi3(-std::numeric_limits<double>::infinity());
   for (std::size_t t = 0; t < count; ++t) {
     glm::dvec2 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
     for (std::size_t k = 0; k < 3; ++k) {
       const glm::vec3& p = positions[triangles[3 * t + k]];
-      flats[t][k] = glm::dvec2(project(p, axis[t]));
-      lo = glm::min(lo, flats[t][k]);
-      hi = glm::max(hi, flats[t][k]);
+      out.flats[t][k] = glm::dvec2(project(p, axis[t]));
+      lo = glm::min(lo, out.flats[t][k]);
+      hi = glm::max(hi, out.flats[t][k]);
       lo3 = glm::min(lo3, glm::dvec3(p));
       hi3 = glm::max(hi3, glm::dvec3(p));
     }
     extent_sum += std::max(hi.x - lo.x, hi.y - lo.y);
   }
-  // Rounding of shared vertices, relative to the model's size.
-  const double eps = count == 0 ? 0.0 : 1e-7 * std::max(1e-30, glm::length(hi3 - lo3));
-  const double cell = count == 0 ? 1.0 : std::max(2.0 * extent_sum / static_cast<double>(count), 1e-30);
+  out.eps = count == 0 ? 0.0 : 1e-7 * std::max(1e-30, glm::length(hi3 - lo3));
+  out.cell = count == 0 ? 1.0 : std::max(2.0 * extent_sum / static_cast<double>(count), 1e-30);
+  return out;
+}
+
+// Charts grow from a seed across shared edges to neighbours of the same axis whose projection
+// does not overlap the chart's: so no chart folds onto itself, however the surface winds.
+// `chart_of` gets each triangle's chart.
+std::vector<Chart> grow_charts(const std::vector<int>& axis, const Edges& edges, const Projected& projected,
+                               std::vector<std::uint32_t>& chart_of) {
+  const std::size_t count = axis.size();
   std::vector<Chart> charts;
-  constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
-  std::vector<std::uint32_t> chart_of(count, kNone);
-  ChartGrid grid(cell);
+  chart_of.assign(count, kNone);
+  ChartGrid grid(projected.cell);
   std::vector<std::uint32_t> queue;
   for (std::size_t seed = 0; seed < count; ++seed) {
     if (chart_of[seed] != kNone) continue;
@@ -213,21 +245,27 @@ Result<AtlasMesh> box_atlas(std::span<const glm::vec3> positions, std::span<cons
     grid.clear();
     queue.assign(1, static_cast<std::uint32_t>(seed));
     chart_of[seed] = c;
-    grid.add(flats[seed], static_cast<std::uint32_t>(seed));
+    grid.add(projected.flats[seed], static_cast<std::uint32_t>(seed));
     for (std::size_t q = 0; q < queue.size(); ++q) {
       const std::uint32_t t = queue[q];
       charts[c].triangles.push_back(t);
       for (int e = 0; e < 3; ++e) {
-        for (const std::uint32_t n : edge_triangles[edge_key(t, e)]) {
+        const auto on = edges.triangles_on.find(edges.key(t, e));
+        for (const std::uint32_t n : on->second) {
           if (chart_of[n] != kNone || axis[n] != charts[c].axis) continue;
-          if (grid.overlaps(flats[n], flats, eps)) continue;
+          if (grid.overlaps(projected.flats[n], projected.flats, projected.eps)) continue;
           chart_of[n] = c;
-          grid.add(flats[n], n);
+          grid.add(projected.flats[n], n);
           queue.push_back(n);
         }
       }
     }
   }
+  return charts;
+}
+
+// Each chart's projected bounds; returns the largest side of any.
+double bound_charts(std::vector<Chart>& charts, std::span<const glm::vec3> positions, std::span<const std::uint32_t> triangles) {
   double largest = 0.0;
   for (Chart& chart : charts) {
     chart.lo = glm::vec2(std::numeric_limits<float>::infinity());
@@ -241,13 +279,17 @@ Result<AtlasMesh> box_atlas(std::span<const glm::vec3> positions, std::span<cons
     }
     largest = std::max({largest, static_cast<double>(chart.hi.x - chart.lo.x), static_cast<double>(chart.hi.y - chart.lo.y)});
   }
+  return largest;
+}
+
+// The largest scale that packs, by bisection (packing only gets harder as the scale grows), with
+// the charts packed at it; fails when not even points of the charts fit.
+Result<double> pack_largest(std::vector<Chart>& charts, double largest, int size, int padding) {
   std::vector<std::uint32_t> order(charts.size());
   std::iota(order.begin(), order.end(), 0u);
   std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
     return charts[a].hi.y - charts[a].lo.y > charts[b].hi.y - charts[b].lo.y;
   });
-
-  // The largest scale that packs, by bisection: packing only gets harder as the scale grows.
   const double pad = static_cast<double>(padding) / static_cast<double>(size);
   if (!pack(charts, order, 0.0, pad) || !(largest > 0.0)) {
     return fail("the box-projection atlas has " + std::to_string(charts.size()) + " charts, too many for a " +
@@ -263,14 +305,20 @@ Result<AtlasMesh> box_atlas(std::span<const glm::vec3> positions, std::span<cons
     hi = lo;
   }
   pack(charts, order, hi, pad);
+  return hi;
+}
 
+// The atlas mesh at `scale`: a vertex is copied once per chart that uses it.
+AtlasMesh atlas_mesh(const std::vector<Chart>& charts, const std::vector<std::uint32_t>& chart_of,
+                     std::span<const glm::vec3> positions, std::span<const std::uint32_t> triangles, double scale,
+                     int size, int padding) {
+  const double pad = static_cast<double>(padding) / static_cast<double>(size);
   AtlasMesh out;
   out.charts = charts.size();
-  out.texels_per_unit = static_cast<float>(hi * size);
+  out.texels_per_unit = static_cast<float>(scale * size);
   out.triangles.resize(triangles.size());
-  // A vertex is copied once per chart that uses it.
   std::unordered_map<std::uint64_t, std::uint32_t> copy;
-  for (std::size_t t = 0; t < count; ++t) {
+  for (std::size_t t = 0; t < triangles.size() / 3; ++t) {
     const Chart& chart = charts[chart_of[t]];
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t v = triangles[3 * t + static_cast<std::size_t>(k)];
@@ -278,7 +326,7 @@ Result<AtlasMesh> box_atlas(std::span<const glm::vec3> positions, std::span<cons
       auto [it, added] = copy.emplace(key, static_cast<std::uint32_t>(out.source_vertex.size()));
       if (added) {
         const glm::vec2 p = project(positions[v], chart.axis);
-        const glm::dvec2 uv = glm::dvec2(chart.origin) + 0.5 * pad + glm::dvec2(p - chart.lo) * hi;
+        const glm::dvec2 uv = glm::dvec2(chart.origin) + 0.5 * pad + glm::dvec2(p - chart.lo) * scale;
         out.source_vertex.push_back(v);
         out.uv.push_back(glm::clamp(glm::vec2(uv), glm::vec2(0.0f), glm::vec2(1.0f)));
       }
@@ -286,6 +334,21 @@ Result<AtlasMesh> box_atlas(std::span<const glm::vec3> positions, std::span<cons
     }
   }
   return out;
+}
+
+}  // namespace
+
+Result<AtlasMesh> box_atlas(std::span<const glm::vec3> positions, std::span<const std::uint32_t> triangles, int size,
+                            int padding) {
+  const std::vector<int> axis = triangle_axes(positions, triangles);
+  const Edges edges = welded_edges(positions, triangles);
+  const Projected projected = project_triangles(positions, triangles, axis);
+  std::vector<std::uint32_t> chart_of;
+  std::vector<Chart> charts = grow_charts(axis, edges, projected, chart_of);
+  const double largest = bound_charts(charts, positions, triangles);
+  Result<double> scale = pack_largest(charts, largest, size, padding);
+  if (!scale) return std::unexpected(scale.error());
+  return atlas_mesh(charts, chart_of, positions, triangles, *scale, size, padding);
 }
 
 }  // namespace exao::bake

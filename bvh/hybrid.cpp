@@ -24,20 +24,11 @@ HybridControllers::HybridControllers() : storage_(new Storage) {}
 HybridControllers::~HybridControllers() { delete storage_; }
 HybridController& HybridControllers::local() { return storage_->local.local(); }
 
-const char* hybrid_policy_name(HybridPolicy policy) {
-  switch (policy) {
-    case HybridPolicy::Adaptive: return "adaptive";
-    case HybridPolicy::Masks: return "masks";
-    case HybridPolicy::Rays: return "rays";
-  }
-  return "?";
-}
+const char* hybrid_policy_name(HybridPolicy policy) { return name_of(policy); }
 
 Result<HybridPolicy> parse_hybrid_policy(const std::string& name) {
-  for (const HybridPolicy p : {HybridPolicy::Adaptive, HybridPolicy::Masks, HybridPolicy::Rays}) {
-    if (name == hybrid_policy_name(p)) return p;
-  }
-  return fail("hybrid: unknown policy '" + name + "' (adaptive, masks or rays)");
+  if (const std::optional<HybridPolicy> p = parse_enum<HybridPolicy>(name)) return *p;
+  return fail("hybrid: unknown policy '" + name + "' (" + name_list<HybridPolicy>() + ")");
 }
 
 float HybridController::allowance(int level, int n) {

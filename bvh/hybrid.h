@@ -33,6 +33,7 @@
 #include "bvh/bvh.h"
 #include "bvh/traverse.h"
 #include "core/embree_reference.h"
+#include "core/enum_names.h"
 #include "core/error.h"
 #include "core/mask_set.h"
 #include "core/progress.h"
@@ -47,6 +48,11 @@ enum class HybridPolicy {
   Masks,     // masks to the end; Embree only on the rays that graze
   Rays,      // no mask work at all: Embree on every ray
 };
+
+[[nodiscard]] constexpr auto enum_names(HybridPolicy) {
+  return std::to_array<EnumName<HybridPolicy>>(
+      {{HybridPolicy::Adaptive, "adaptive"}, {HybridPolicy::Masks, "masks"}, {HybridPolicy::Rays, "rays"}});
+}
 
 [[nodiscard]] const char* hybrid_policy_name(HybridPolicy policy);
 /// "adaptive", "masks" or "rays"; the error names the option "hybrid".

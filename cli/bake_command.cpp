@@ -279,6 +279,46 @@ Result<void> run_compare(const Scene& scene, const bake::BakeResult& result, con
   return {};
 }
 
+// One geometry for the bake's engine, the --compare engine and the preview's primary rays.
+Result<std::shared_ptr<const engine::Geometry>> bake_geometry(const BakePlan& plan, const OutputPaths& outputs,
+                                                              const bake::Document& document) {
+  std::vector<engine::Method> methods{plan.engine.method};
+  if (plan.compare) methods.push_back(plan.compare->method);
+  engine::GeometryOptions geometry_options;
+  geometry_options.sidedness = plan.engine.sidedness;
+  geometry_options.cutouts = plan.engine.cutouts;
+  geometry_options.bvh = plan.engine.bvh;
+  geometry_options.embree = !outputs.preview.empty();
+  geometry_options.threads = plan.engine.threads;
+  return engine::Geometry::build(document.scene(), methods, geometry_options);
+}
+
+// The bake's outputs first, so that bad output paths give one line; then what was measured
+// (the summary, --compare's run) and the files written. The command's exit status.
+int save_and_report(const BakeCommandOptions& options, const Invocation& invocation, const BakePlan& plan,
+                    const OutputPaths& outputs, bake::Document& document, const bake::BakeResult& result,
+                    const engine::Engine& engine, const std::optional<engine::Engine>& other) {
+  const std::string& name = options.scene.scene;
+  std::vector<std::string> save_notes;
+  Result<std::vector<std::string>> written = bake::save(document, result, outputs.save, save_notes);
+  if (!written) return report(written.error());
+  print_notes(name, save_notes);
+  if (!outputs.preview.empty()) {
+    if (auto ok = write_preview(outputs, document, result, engine); !ok) return report(ok.error());
+    written->push_back(outputs.preview);
+  }
+  print_summary(name, document, plan.bake, result, engine,
+                invocation.merge ? invocation.merge->parts
+                                 : options.shard.resume.empty() ? std::string() : "the chunks in " + options.shard.resume);
+  if (other) {
+    if (auto ok = run_compare(document.scene(), result, engine, *other); !ok) return report(ok.error(), kCompareFlags);
+  }
+  std::string files;
+  for (const std::string& file : *written) files += (files.empty() ? "" : ", ") + file;
+  std::printf("-> %s\n", files.c_str());
+  return 0;
+}
+
 int run_bake(const BakeCommandOptions& given, const Invocation& invocation) {
   BakeCommandOptions options = given;
   if (invocation.merge && !invocation.merge->output.empty()) options.output = invocation.merge->output;
@@ -306,16 +346,7 @@ int run_bake(const BakeCommandOptions& given, const Invocation& invocation) {
     if (auto ok = check_merge_receivers(*invocation.merge, receivers); !ok) return report(ok.error());
   }
 
-  // One geometry for the bake's engine, the --compare engine and the preview's primary rays.
-  std::vector<engine::Method> methods{plan->engine.method};
-  if (plan->compare) methods.push_back(plan->compare->method);
-  engine::GeometryOptions geometry_options;
-  geometry_options.sidedness = plan->engine.sidedness;
-  geometry_options.cutouts = plan->engine.cutouts;
-  geometry_options.bvh = plan->engine.bvh;
-  geometry_options.embree = !outputs->preview.empty();
-  geometry_options.threads = plan->engine.threads;
-  auto geometry = engine::Geometry::build(document->scene(), methods, geometry_options);
+  auto geometry = bake_geometry(*plan, *outputs, *document);
   if (!geometry) return report(geometry.error());
   Result<engine::Engine> engine = engine::Engine::build(*geometry, plan->engine, engine::Receivers::Points);
   if (!engine) return report(engine.error());
@@ -349,28 +380,8 @@ int run_bake(const BakeCommandOptions& given, const Invocation& invocation) {
     result = bake::bake(*document, plan->bake, *engine, run);
   }
   if (!result) return report(result.error());
-  const std::string& name = options.scene.scene;
-  print_notes(name, result->notes);
-
-  // Outputs first, so that bad output paths give one line; then what was measured.
-  std::vector<std::string> save_notes;
-  Result<std::vector<std::string>> written = bake::save(*document, *result, outputs->save, save_notes);
-  if (!written) return report(written.error());
-  print_notes(name, save_notes);
-  if (!outputs->preview.empty()) {
-    if (auto ok = write_preview(*outputs, *document, *result, *engine); !ok) return report(ok.error());
-    written->push_back(outputs->preview);
-  }
-  print_summary(name, *document, plan->bake, *result, *engine,
-                invocation.merge ? invocation.merge->parts
-                                 : options.shard.resume.empty() ? std::string() : "the chunks in " + options.shard.resume);
-  if (other) {
-    if (auto ok = run_compare(document->scene(), *result, *engine, *other); !ok) return report(ok.error(), kCompareFlags);
-  }
-  std::string files;
-  for (const std::string& file : *written) files += (files.empty() ? "" : ", ") + file;
-  std::printf("-> %s\n", files.c_str());
-  return 0;
+  print_notes(options.scene.scene, result->notes);
+  return save_and_report(options, invocation, *plan, *outputs, *document, *result, *engine, other);
 }
 
 }  // namespace

@@ -1,28 +1,25 @@
 // exao bench: every method on the same receivers and rays, timed side by side, compared with
-// Embree ray for ray. A table on stdout, optionally JSON and an SVG bar chart.
+// Embree ray for ray (the library's bench::run). A table on stdout, optionally JSON, Markdown and
+// an SVG bar chart, and a PNG of every row.
 
-#include <algorithm>
-#include <chrono>
-#include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <memory>
 #include <optional>
-#include <sstream>
+#include <string>
 
-#include "bake/bake.h"
-#include "bake/document.h"
+#include "bake/options.h"
+#include "bench/plan.h"
+#include "bench/run.h"
 #include "cli/bench_report.h"
 #include "cli/commands.h"
 #include "cli/common_options.h"
 #include "cli/lod_options.h"
 #include "cli/progress_bar.h"
-#include "core/ao_error.h"
-#include "core/atomic_write.h"
-#include "io/image_io.h"
 #include "core/isa.h"
+#include "core/mask_set.h"
 #include "core/pixel_receivers.h"
 #include "engine/engine.h"
+#include "io/image_io.h"
 
 namespace exao::cli {
 namespace {
@@ -51,29 +48,6 @@ struct BenchOptions {
   ShardCliOptions shard;
 };
 
-// How a method's masks compare with Embree's on the same rays.
-void compare(const MaskSet& reference, const MaskSet& masks, BenchRun& run) {
-  std::uint64_t agree = 0;
-  std::size_t identical = 0;
-  double sum_error = 0.0, max_error = 0.0;
-  const std::uint64_t rays = static_cast<std::uint64_t>(reference.size()) * static_cast<std::uint64_t>(reference.samples());
-  for (std::size_t i = 0; i < reference.size(); ++i) {
-    const auto a = reference.row(i);
-    const auto b = masks.row(i);
-    int differ = 0;
-    for (std::size_t w = 0; w < a.size(); ++w) differ += std::popcount(a[w] ^ b[w]);
-    agree += static_cast<std::uint64_t>(reference.samples() - differ);
-    const double error = std::abs(static_cast<double>(reference.ao(i)) - static_cast<double>(masks.ao(i)));
-    identical += reference.blocked_count(i) == masks.blocked_count(i);
-    sum_error += error;
-    max_error = std::max(max_error, error);
-  }
-  run.ray_agreement = rays ? static_cast<double>(agree) / static_cast<double>(rays) : 1.0;
-  run.identical_receivers = reference.size() ? static_cast<double>(identical) / static_cast<double>(reference.size()) : 1.0;
-  run.mean_abs_error = reference.size() ? sum_error / static_cast<double>(reference.size()) : 0.0;
-  run.max_abs_error = max_error;
-}
-
 // The bake whose receivers --receivers asks for (vertex or texel); checked before the scene is read.
 Result<bake::BakeOptions> receivers_bake(const std::string& spec) {
   bake::BakeOptions options;
@@ -96,324 +70,169 @@ Result<bake::BakeOptions> receivers_bake(const std::string& spec) {
   return options;
 }
 
-// One timed configuration of a (N, r): a method with a mask mode and instruction set, or Embree
-// with a ray mode.
-struct Config {
-  engine::Method method;
-  lut::MaskMode mode;
-  EmbreeRays rays;
-  std::optional<Isa> isa;
-  int lod = -1;  // raster+lod: index into BenchLists::lods
-};
-
-// The lists of --methods, --masks, --embree-rays and --isa, each checked against what the methods
-// serve (on a camera's pixels, or on points for a bake's receivers).
-struct BenchLists {
-  std::vector<engine::Method> methods;  // embree first: the reference of every comparison
-  std::vector<lut::MaskMode> modes;
-  std::vector<EmbreeRays> embree_modes;
-  std::vector<Isa> isas;                // resolved: every one runs on this CPU
-  std::vector<raster::LodOptions> lods;  // raster+lod rows, for every raster row (eps1 0: auto)
-};
-
-Result<BenchLists> parse_lists(const BenchOptions& options, const engine::Options& base, engine::Receivers receivers) {
-  BenchLists out;
-  out.methods.push_back(engine::Method::Embree);
+// The lists of --methods, --masks, --embree-rays, --isa, --lod, -n and -r as the library's plan
+// (its checks are bench::check_plan's).
+Result<bench::Plan> parse_plan(const BenchOptions& options, const engine::Options& base) {
+  bench::Plan plan;
+  plan.base = base;
+  plan.methods.clear();
   for (const std::string& name : options.methods) {
     Result<engine::Method> m = engine::parse_method(name);
     if (!m) return std::unexpected(m.error());
-    if (std::find(out.methods.begin(), out.methods.end(), *m) == out.methods.end()) out.methods.push_back(*m);
+    plan.methods.push_back(*m);
   }
+  plan.masks.clear();
   for (const std::string& name : options.masks) {
     Result<lut::MaskMode> m = lut::parse_mask_mode(name);
     if (!m) return std::unexpected(m.error());
-    out.modes.push_back(*m);
+    plan.masks.push_back(*m);
   }
+  plan.embree_rays.clear();
   for (const std::string& name : options.embree_rays) {
     Result<EmbreeRays> r = parse_embree_rays(name);
     if (!r) return std::unexpected(r.error());
-    out.embree_modes.push_back(*r);
+    plan.embree_rays.push_back(*r);
   }
-  if (out.embree_modes.empty()) return fail("embree.rays: give at least one mode");
+  plan.isas.clear();
   for (const std::string& name : options.isas) {
-    Result<std::optional<Isa>> parsed = parse_isa(name);
-    if (!parsed) return std::unexpected(parsed.error());
-    Result<Isa> level = resolve_isa(*parsed);
-    if (!level) return std::unexpected(level.error());
-    out.isas.push_back(*level);
+    Result<std::optional<Isa>> isa = parse_isa(name);
+    if (!isa) return std::unexpected(isa.error());
+    plan.isas.push_back(*isa);
   }
-  if (out.isas.empty()) return fail("isa: give at least one instruction set");
-  for (const int n : options.samples) {
-    if (auto ok = check_sample_count(n); !ok) return std::unexpected(ok.error());
-  }
-  for (const engine::Method m : out.methods) {
-    for (const lut::MaskMode mode : out.modes) {
-      if (m == engine::Method::Auto && mode != lut::MaskMode::Exact) continue;  // one exact row
-      engine::Options o = base;
-      o.method = m;
-      o.masks = mode;
-      if (auto ok = engine::check_serves(o, receivers); !ok) return std::unexpected(ok.error());
-    }
-  }
-  // Levels of detail: one raster+lod row per --lod value and raster row; none without raster.
-  const bool raster = std::find(out.methods.begin(), out.methods.end(), engine::Method::Raster) != out.methods.end();
   for (const std::string& spec : options.lod) {
     LodCliOptions cli = options.lod_settings;
     cli.lod = spec;
     Result<std::optional<raster::LodOptions>> lod = parse_lod(cli);
     if (!lod) return std::unexpected(lod.error());
-    if (!*lod || !raster) continue;
-    engine::Options o = base;
-    o.method = engine::Method::Raster;
-    o.lod = *lod;
-    if (auto ok = engine::check_options(o); !ok) return std::unexpected(ok.error());
-    out.lods.push_back(**lod);
+    if (*lod) plan.lods.push_back(**lod);
   }
-  return out;
+  plan.samples = options.samples;
+  plan.radii.clear();
+  for (const std::string& text : options.radii) {
+    Result<engine::Length> radius = parse_radius(text);
+    if (!radius) return std::unexpected(radius.error());
+    plan.radii.push_back({*radius, text});
+  }
+  plan.repeats = options.repeats;
+  plan.stats = options.stats;
+  return plan;
 }
 
+// Every row's AO as a PNG preview in `folder`, named by N, r, method, masks, isa and eps_1.
+Result<void> write_row_png(const std::string& folder, const bench::Run& run, const MaskSet& masks,
+                           const PixelReceivers& pixels, bool on_pixels) {
+  AoImage image;
+  image.width = pixels.width;
+  image.height = pixels.height;
+  image.ao.assign(static_cast<std::size_t>(pixels.width) * static_cast<std::size_t>(pixels.height), 1.0f);
+  image.coverage.assign(image.ao.size(), 0.0f);
+  for (std::size_t r = 0; r < pixels.receivers.size(); ++r) {
+    const std::size_t at = on_pixels ? pixels.pixel[r] : r;  // bake receivers: one row
+    image.ao[at] = masks.ao(r);
+    image.coverage[at] = 1.0f;
+  }
+  std::string name = "/" + std::to_string(run.samples) + "-" + run.radius_text + "-" + run.method + "-" + run.masks;
+  if (!run.isa.empty()) name += "-" + run.isa;
+  if (run.method == "raster+lod") name += "-" + std::to_string(run.lod_eps1);
+  return write_png(image, folder + name + ".png");
+}
+
+// Pixel receivers come from the scene as every command loads it; bake receivers from the
+// scene as the bake reads it (a glTF's default scene, or the soup converted with an atlas).
+Result<bench::Workload> open_workload(const BenchOptions& options, const bench::Plan& plan) {
+  bench::Workload workload;
+  workload.name = options.scene.scene;
+  if (!plan.bake) {
+    Result<Scene> scene = open_scene(options.scene);
+    if (!scene) return std::unexpected(scene.error());
+    workload.scene = std::move(*scene);
+  } else {
+    Result<bake::Document> document = bench::open_document(options.scene.scene, *plan.bake);
+    if (!document) return std::unexpected(document.error());
+    workload.document = std::move(*document);
+    workload.scene = workload.document->scene();
+  }
+  Result<View> view = choose_view(options.camera, workload.scene);
+  if (!view) return std::unexpected(view.error());
+  workload.camera = view->camera;
+  workload.width = view->width;
+  workload.height = view->height;
+  return workload;
+}
+
+// --json, --svg and --markdown.
+Result<void> write_outputs(const BenchOptions& options, const bench::Report& results) {
+  if (!options.json.empty()) {
+    if (auto ok = write_bench_json(results, options.json); !ok) return ok;
+  }
+  if (!options.svg.empty()) {
+    if (auto ok = write_bench_svg(results, options.svg); !ok) return ok;
+  }
+  if (!options.markdown.empty()) return write_bench_markdown(results, options.markdown);
+  return {};
+}
+
+// The library's errors name its options; these are the flags that stand for them here.
+const FlagOverrides kPlanFlags{{"method", "--methods"}, {"repeats", "--repeats"}};
+const FlagOverrides kRunFlags{{"shard", "--shard"}};
+
 int run_bench(const BenchOptions& options, const Invocation&) {
-  if (options.repeats < 1) return report(Error{"--repeats: must be at least 1, got " + std::to_string(options.repeats)});
   Result<std::optional<engine::Shard>> shard = resolve_shard(options.shard);
   if (!shard) return report(shard.error());
-  if (*shard && options.receivers == "pixels") {
+  const bool on_pixels = options.receivers == "pixels";
+  if (*shard && on_pixels) {
     return report(Error{"--shard: only with --receivers vertices or texels:SIZE (a bake's receivers, cut into chunks)"});
   }
   Result<engine::Options> base = make_options(options.scene, options.rays, options.method);
   if (!base) return report(base.error());
   print_thread_note(base->threads);
-  // Pixel receivers come from the scene as every command loads it; bake receivers from the
-  // scene as the bake reads it (a glTF's default scene, or the soup converted with an atlas).
-  const bool on_pixels = options.receivers == "pixels";
-  const engine::Receivers kind = on_pixels ? engine::Receivers::Pixels : engine::Receivers::Points;
-  Result<BenchLists> lists = parse_lists(options, *base, kind);
-  if (!lists) return report(lists.error(), {{"method", "--methods"}});
-
-  std::optional<bake::Document> document;
-  std::optional<bake::BakeOptions> bake_options;
-  Result<Scene> scene = fail("no scene");
-  if (on_pixels) {
-    scene = open_scene(options.scene);
-  } else {
-    Result<bake::BakeOptions> planned = receivers_bake(options.receivers);
-    if (!planned) return report(planned.error());
-    bake_options = *planned;
-    // A mesh without UVs gets a box-projection atlas laid out for this map size, as in exao bake.
-    bake::ConvertOptions convert;
-    if (bake_options->target == bake::Target::Texture) {
-      convert.atlas_size = bake_options->texture_size;
-      convert.atlas_padding = 2 * bake_options->margin + 2;
-    }
-    Result<bake::Document> opened = bake::Document::open(options.scene.scene, convert);
-    if (!opened) return report(opened.error());
-    document = std::move(*opened);
-    scene = document->scene();
+  Result<bench::Plan> parsed = parse_plan(options, *base);
+  if (!parsed) return report(parsed.error(), kPlanFlags);
+  if (!on_pixels) {
+    // Checked before the scene is read.
+    Result<bake::BakeOptions> bake = receivers_bake(options.receivers);
+    if (!bake) return report(bake.error());
+    parsed->bake = *bake;
   }
-  if (!scene) return report(scene.error());
-  Result<View> view = choose_view(options.camera, *scene);
-  if (!view) return report(view.error());
-  // One geometry (Embree scene, triangles, BVH) for every engine of the run.
-  engine::GeometryOptions geometry_options;
-  geometry_options.sidedness = base->sidedness;
-  geometry_options.cutouts = base->cutouts;
-  geometry_options.bvh = base->bvh;
-  geometry_options.embree = true;
-  geometry_options.threads = base->threads;
-  Result<std::shared_ptr<const engine::Geometry>> geometry =
-      engine::Geometry::build(*scene, lists->methods, geometry_options);
-  if (!geometry) return report(geometry.error());
-  const auto engine_for = [&](engine::Method method, lut::MaskMode mode, std::optional<Isa> isa, int n,
-                              const std::string& radius, int lod = -1) {
-    engine::Options o = *base;
-    o.method = method;
-    if (lod >= 0) o.lod = lists->lods[static_cast<std::size_t>(lod)];
-    o.masks = mode;
-    o.isa = isa;
-    o.samples = n;
-    Result<engine::Length> r = parse_radius(radius);
-    if (!r) return Result<engine::Engine>(std::unexpected(r.error()));
-    o.radius = *r;
-    return engine::Engine::build(*geometry, o, kind);
+  parsed->shard = *shard;
+  parsed->label = options.label.empty() ? options.scene.scene + " " + options.receivers : options.label;
+  if (*shard) parsed->label += " shard " + std::to_string((*shard)->index) + "/" + std::to_string((*shard)->count);
+  Result<bench::Plan> plan = bench::check_plan(std::move(*parsed));
+  if (!plan) return report(plan.error(), kPlanFlags);
+
+  Result<bench::Workload> opened = open_workload(options, *plan);
+  if (!opened) return report(opened.error());
+  bench::Workload& workload = *opened;
+
+  Result<bench::Setup> setup = bench::prepare(*plan, workload);
+  if (!setup) return report(setup.error());
+  if (*shard) {
+    std::printf("shard %zu/%zu: %zu of %zu receivers\n", (*shard)->index, (*shard)->count,
+                setup->receivers.receivers.size(), setup->all_receivers);
+  }
+  if (on_pixels && setup->receivers.receivers.empty()) {
+    return report(Error{options.scene.scene + ": the camera sees no triangle; try --eye/--target"});
+  }
+  if (auto ok = bench::check_receivers(*plan, workload, *setup); !ok) return report(ok.error(), kRunFlags);
+  print_bench_header(setup->report);
+
+  std::unique_ptr<ProgressBar> bar;
+  bench::Events events;
+  events.radius_ready = [](const engine::Engine& engine) { print_ray_notes(engine); };
+  events.lod_built = [](const engine::LodLevels& lod) { std::printf("%s\n", describe_lod(lod).c_str()); };
+  events.progress_started = [&bar](const std::string& label) {
+    bar = std::make_unique<ProgressBar>(label);
+    return bar->callback();
   };
-  // Every method runs on the same receivers (Embree's pixels, or the bake's), so that all cast
-  // the same rays.
-  Result<engine::Engine> reference = engine_for(engine::Method::Embree, lut::MaskMode::Exact, std::nullopt,
-                                                options.samples.front(),
-                                                options.radii.empty() ? std::string() : options.radii.front());
-  if (!reference) return report(reference.error());
-  Result<PixelReceivers> pixels = PixelReceivers{};
-  if (on_pixels) {
-    pixels = reference->pixel_receivers(view->camera, view->width, view->height);
-    if (!pixels) return report(pixels.error());
-    if (pixels->receivers.empty()) return report(Error{options.scene.scene + ": the camera sees no triangle; try --eye/--target"});
-  } else {
-    Result<std::vector<Receiver>> receivers = bake::bake_receivers(*document, *bake_options);
-    if (!receivers) return report(receivers.error());
-    if (receivers->empty()) return report(Error{options.scene.scene + ": the bake has no receivers"});
-    if (*shard) {
-      // The shard's receivers only (the chunks a sharded bake computes), in the engine's order:
-      // each receiver's rays are the same, so every method is timed on exactly this part.
-      const std::size_t total = receivers->size();
-      std::vector<Receiver> part;
-      for (const std::uint32_t r : engine::shard_receivers(*receivers, **shard)) part.push_back((*receivers)[r]);
-      std::printf("shard %zu/%zu: %zu of %zu receivers\n", (*shard)->index, (*shard)->count, part.size(), total);
-      if (part.empty()) return report(Error{"--shard: part " + std::to_string((*shard)->index) + " of " +
-                                            std::to_string((*shard)->count) + " has no receivers (" +
-                                            std::to_string(total) + " receivers make fewer chunks than parts)"});
-      *receivers = std::move(part);
-    }
-    pixels->receivers = std::move(*receivers);
-    pixels->width = static_cast<int>(pixels->receivers.size());
-    pixels->height = 1;
-  }
-
-  BenchReport report_data;
-  report_data.scene = options.scene.scene;
-  report_data.label = options.label.empty() ? options.scene.scene + " " + options.receivers : options.label;
-  if (*shard) report_data.label += " shard " + std::to_string((*shard)->index) + "/" + std::to_string((*shard)->count);
-  report_data.triangles = scene->triangle_count();
-  report_data.receivers = pixels->receivers.size();
-  report_data.threads = reference->threads();
-  report_data.width = pixels->width;
-  report_data.height = pixels->height;
-  print_bench_header(report_data);
-
-  for (const int n : options.samples) {
-    for (const std::string& radius_text : options.radii) {
-      // The configurations of this (N, r): Embree first, the reference for every comparison.
-      std::vector<Config> configs;
-      for (const EmbreeRays r : lists->embree_modes) {
-        configs.push_back({engine::Method::Embree, lut::MaskMode::Exact, r, std::nullopt});
-      }
-      for (const engine::Method m : lists->methods) {
-        if (m == engine::Method::Embree) continue;
-        for (const lut::MaskMode mode : lists->modes) {
-          // auto has exact masks only: one row, whatever --masks lists.
-          if (m == engine::Method::Auto && mode != lut::MaskMode::Exact) continue;
-          for (const Isa isa : lists->isas) configs.push_back({m, mode, EmbreeRays::Single, isa});
-        }
-      }
-      for (const lut::MaskMode mode : lists->modes) {
-        for (const Isa isa : lists->isas) {
-          for (std::size_t l = 0; l < lists->lods.size(); ++l) {
-            configs.push_back({engine::Method::Raster, mode, EmbreeRays::Single, isa, static_cast<int>(l)});
-          }
-        }
-      }
-      std::vector<engine::Engine> engines;
-      for (const Config& config : configs) {
-        Result<engine::Engine> built = engine_for(config.method, config.mode, config.isa, n, radius_text, config.lod);
-        if (!built) return report(built.error());
-        engines.push_back(std::move(*built));
-      }
-      // Each radius once: it does not depend on N.
-      if (n == options.samples.front()) print_ray_notes(engines.front());
-      std::vector<BenchRun> runs(configs.size());
-      std::vector<MaskSet> results(configs.size());
-      // Interleaved repeats: drift of the machine hits every method alike; the fastest counts.
-      for (int repeat = 0; repeat < options.repeats; ++repeat) {
-        for (std::size_t c = 0; c < configs.size(); ++c) {
-          const Config& config = configs[c];
-          engine::Stats stats;
-          // The levels of detail: built before the clock starts, once per radius and options
-          // (the geometry keeps them for every repeat, N and engine), and said when built.
-          std::optional<engine::LodLevels> lod;
-          if (config.lod >= 0) {
-            Result<std::optional<engine::LodLevels>> levels = std::optional<engine::LodLevels>{};
-            {
-              ProgressBar lod_bar("lod");
-              levels = engines[c].prepare_lod(*pixels, view->camera, lod_bar.callback());
-            }
-            if (!levels) return report(levels.error());
-            lod = *levels;
-            if (lod->built) std::printf("%s\n", describe_lod(*lod).c_str());
-          }
-          const std::string method = lod ? "raster+lod" : engine::method_name(config.method);
-          ProgressBar bar("bench " + method);
-          engine::RunOptions run;
-          run.progress = bar.callback();
-          if (options.stats) run.stats = &stats;
-          if (config.method == engine::Method::Embree) run.embree_rays = config.rays;
-          const auto start = std::chrono::steady_clock::now();
-          Result<MaskSet> masks =
-              on_pixels ? engines[c].pixel_masks(*pixels, view->camera, run) : engines[c].masks(pixels->receivers, run);
-          const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-          bar.finish();
-          if (!masks) return report(masks.error());
-          BenchRun& r = runs[c];
-          if (repeat == 0 || seconds < r.seconds) r.seconds = seconds;
-          if (repeat == 0) {
-            r.samples = n;
-            r.radius = engines[c].radius();
-            r.radius_text = radius_text;
-            r.method = method;
-            if (lod) {
-              r.lod_eps1 = lod->options.eps1;
-              r.lod_levels = lod->options.levels;
-              r.lod_k = lod->options.k;
-              r.lod_build_seconds = lod->levels->seconds;
-            }
-            r.masks = config.method == engine::Method::Embree ? embree_rays_name(config.rays) : lut::mask_mode_name(config.mode);
-            const lut::MaskEngine* masks_engine = engines[c].mask_engine();
-            r.isa = masks_engine ? isa_name(masks_engine->isa()) : "";
-            r.stats = stats;
-            results[c] = std::move(*masks);
-          }
-        }
-      }
-      for (std::size_t c = 0; c < configs.size(); ++c) {
-        BenchRun& run = runs[c];
-        run.mrays_per_s = static_cast<double>(pixels->receivers.size()) * n / run.seconds * 1e-6;
-        run.speedup_vs_embree = runs[0].seconds / run.seconds;
-        compare(results[0], results[c], run);
-        const AoError vs_embree = ao_error(results[0], results[c]);
-        run.bias = vs_embree.bias();
-        run.identical_8bit = vs_embree.identical_8bit_share();
-        if (configs[c].lod >= 0) {
-          // LOD's own error: against raster without LOD, same masks and instruction set.
-          for (std::size_t b = 0; b < configs.size(); ++b) {
-            if (configs[b].method != engine::Method::Raster || configs[b].lod >= 0 || configs[b].mode != configs[c].mode ||
-                configs[b].isa != configs[c].isa) {
-              continue;
-            }
-            const AoError own = ao_error(results[b], results[c]);
-            run.lod_speedup_vs_raster = runs[b].seconds / run.seconds;
-            run.lod_mean_abs_vs_raster = own.mean_abs();
-            run.lod_max_abs_vs_raster = own.max_abs;
-            run.lod_bias_vs_raster = own.bias();
-            run.lod_identical_8bit_vs_raster = own.identical_8bit_share();
-          }
-        }
-        print_bench_row(run, options.stats);
-        if (!options.png_dir.empty()) {
-          AoImage image;
-          image.width = pixels->width;
-          image.height = pixels->height;
-          image.ao.assign(static_cast<std::size_t>(pixels->width) * static_cast<std::size_t>(pixels->height), 1.0f);
-          image.coverage.assign(image.ao.size(), 0.0f);
-          for (std::size_t r = 0; r < pixels->receivers.size(); ++r) {
-            const std::size_t at = on_pixels ? pixels->pixel[r] : r;  // bake receivers: one row
-            image.ao[at] = results[c].ao(r);
-            image.coverage[at] = 1.0f;
-          }
-          std::string name = "/" + std::to_string(n) + "-" + radius_text + "-" + run.method + "-" + run.masks;
-          if (!run.isa.empty()) name += "-" + run.isa;
-          if (configs[c].lod >= 0) name += "-" + std::to_string(run.lod_eps1);
-          if (auto ok = write_png(image, options.png_dir + name + ".png"); !ok) return report(ok.error());
-        }
-        report_data.runs.push_back(run);
-      }
-    }
-  }
-  if (!options.json.empty()) {
-    if (auto ok = write_bench_json(report_data, options.json); !ok) return report(ok.error());
-  }
-  if (!options.svg.empty()) {
-    if (auto ok = write_bench_svg(report_data, options.svg); !ok) return report(ok.error());
-  }
-  if (!options.markdown.empty()) {
-    if (auto ok = write_bench_markdown(report_data, options.markdown); !ok) return report(ok.error());
-  }
+  events.progress_finished = [&bar] { bar.reset(); };
+  events.row = [&](const bench::Run& run, const MaskSet& masks) -> Result<void> {
+    print_bench_row(run, options.stats);
+    if (options.png_dir.empty()) return {};
+    return write_row_png(options.png_dir, run, masks, setup->receivers, on_pixels);
+  };
+  Result<bench::Report> results = bench::run(*plan, workload, *setup, events);
+  if (!results) return report(results.error(), kRunFlags);
+  if (auto ok = write_outputs(options, *results); !ok) return report(ok.error());
   return 0;
 }
 

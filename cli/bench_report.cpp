@@ -37,14 +37,14 @@ std::string escape_xml(const std::string& s) {
 
 }  // namespace
 
-void print_bench_header(const BenchReport& report) {
+void print_bench_header(const bench::Report& report) {
   std::printf("scene %s: %zu triangles, %dx%d camera, %zu receivers, %d threads\n", report.scene.c_str(),
               report.triangles, report.width, report.height, report.receivers, report.threads);
   std::printf("%5s %10s %-10s %-8s %-6s %9s %9s %8s %10s %9s %9s %9s\n", "N", "radius", "method", "masks", "isa", "seconds",
               "Mrays/s", "x embree", "rays agree", "identical", "mean|dAO|", "max|dAO|");
 }
 
-void print_bench_row(const BenchRun& run, bool stats) {
+void print_bench_row(const bench::Run& run, bool stats) {
   std::printf("%5d %10.4g %-10s %-8s %-6s %9.3f %9.1f %8.2f %9.4f%% %8.2f%% %9.5f %9.5f\n", run.samples,
               static_cast<double>(run.radius), run.method.c_str(), run.masks.c_str(), run.isa.c_str(), run.seconds, run.mrays_per_s,
               run.speedup_vs_embree, 100.0 * run.ray_agreement, 100.0 * run.identical_receivers, run.mean_abs_error,
@@ -64,7 +64,7 @@ void print_bench_row(const BenchRun& run, bool stats) {
   std::fflush(stdout);
 }
 
-Result<void> write_bench_json(const BenchReport& report, const std::string& path) {
+Result<void> write_bench_json(const bench::Report& report, const std::string& path) {
   nlohmann::json j;
   j["label"] = report.label;
   j["scene"] = report.scene;
@@ -74,7 +74,7 @@ Result<void> write_bench_json(const BenchReport& report, const std::string& path
   j["width"] = report.width;
   j["height"] = report.height;
   j["runs"] = nlohmann::json::array();
-  for (const BenchRun& run : report.runs) {
+  for (const bench::Run& run : report.runs) {
     nlohmann::json r{{"samples", run.samples},
                      {"radius", run.radius},
                      {"radius_option", run.radius_text},
@@ -114,12 +114,12 @@ Result<void> write_bench_json(const BenchReport& report, const std::string& path
 }
 
 // Groups of bars, one group per (N, radius), one bar per method and mask mode, height Mrays/s.
-Result<void> write_bench_markdown(const BenchReport& report, const std::string& path) {
+Result<void> write_bench_markdown(const bench::Report& report, const std::string& path) {
   std::ostringstream md;
   md << "| workload | N | r | method | Mrays/s | x embree | rays agreeing | receivers identical |\n"
      << "|---|---|---|---|---|---|---|---|\n";
   char line[512];
-  for (const BenchRun& run : report.runs) {
+  for (const bench::Run& run : report.runs) {
     if (run.method == "embree" && run.speedup_vs_embree == 1.0) {
       std::snprintf(line, sizeof line, "| %s | %d | %s | embree %s | %.1f | 1.00 | | |\n", report.label.c_str(),
                     run.samples, run.radius_text.c_str(), run.masks.c_str(), run.mrays_per_s);
@@ -131,24 +131,19 @@ Result<void> write_bench_markdown(const BenchReport& report, const std::string& 
     }
     md << line;
   }
-  return write_atomically(path, [&](const std::string& temp) -> Result<void> {
-    std::ofstream out(temp);
-    out << md.str();
-    if (!out.flush()) return fail(path + ": write failed");
-    return {};
-  });
+  return write_text(md.str(), path);
 }
 
-Result<void> write_bench_svg(const BenchReport& report, const std::string& path) {
+Result<void> write_bench_svg(const bench::Report& report, const std::string& path) {
   std::vector<std::string> groups, series;
-  for (const BenchRun& run : report.runs) {
+  for (const bench::Run& run : report.runs) {
     const std::string g = "N=" + std::to_string(run.samples) + ", r=" + run.radius_text;
     const std::string s = run.method + (run.method == "embree" ? "" : " (" + run.masks + ")");
     if (std::find(groups.begin(), groups.end(), g) == groups.end()) groups.push_back(g);
     if (std::find(series.begin(), series.end(), s) == series.end()) series.push_back(s);
   }
   double top = 1.0;
-  for (const BenchRun& run : report.runs) top = std::max(top, run.mrays_per_s);
+  for (const bench::Run& run : report.runs) top = std::max(top, run.mrays_per_s);
   const char* colours[] = {"#888888", "#d95f02", "#1b9e77", "#7570b3", "#e7298a", "#66a61e"};
   const int bar = 28, gap = 24, left = 60, plot_h = 300, base = 40 + plot_h;
   const int group_w = static_cast<int>(series.size()) * bar + gap;
@@ -164,7 +159,7 @@ Result<void> write_bench_svg(const BenchReport& report, const std::string& path)
     svg << "<line x1='" << left << "' x2='" << width - 200 << "' y1='" << y << "' y2='" << y << "' stroke='#ddd'/>"
         << "<text x='" << left - 6 << "' y='" << y + 4 << "' text-anchor='end'>" << static_cast<int>(value) << "</text>\n";
   }
-  for (const BenchRun& run : report.runs) {
+  for (const bench::Run& run : report.runs) {
     const std::string g = "N=" + std::to_string(run.samples) + ", r=" + run.radius_text;
     const std::string s = run.method + (run.method == "embree" ? "" : " (" + run.masks + ")");
     const auto gi = std::find(groups.begin(), groups.end(), g) - groups.begin();

@@ -45,17 +45,58 @@ AoImage to_image(const PixelReceivers& pixels, std::span<const std::uint32_t> bl
   return image;
 }
 
+// The engine's options from the flags, with the level of detail, checked for a camera's pixels.
+Result<engine::Options> render_options(const RenderOptions& options) {
+  Result<engine::Options> engine_options = make_options(options.scene, options.rays, options.method);
+  if (!engine_options) return engine_options;
+  Result<std::optional<raster::LodOptions>> lod = parse_lod(options.lod);
+  if (!lod) return std::unexpected(lod.error());
+  engine_options->lod = *lod;
+  if (auto ok = engine::check_options(*engine_options); !ok) return std::unexpected(ok.error());
+  if (auto ok = engine::check_serves(*engine_options, engine::Receivers::Pixels); !ok) return std::unexpected(ok.error());
+  return engine_options;
+}
+
+// Every pixel receiver's blocked-ray count: from its mask, or with exao merge from the parts'
+// counts (no rays are cast: engine::RunOptions::supplied_blocked). `stats` may be null.
+// `seconds`: the run's time, the progress bar's life included, the counts from masks not.
+Result<std::vector<std::uint32_t>> blocked_counts(const engine::Engine& engine, const PixelReceivers& pixels,
+                                                  const Camera& camera, const Invocation& invocation, engine::Stats* stats,
+                                                  double& seconds) {
+  Result<MaskSet> masks;
+  std::vector<std::uint32_t> blocked;
+  const auto start = std::chrono::steady_clock::now();
+  {
+    ProgressBar bar("render");
+    engine::RunOptions run;
+    run.progress = bar.callback();
+    run.stats = stats;
+    if (invocation.merge) {
+      run.supplied_blocked = invocation.merge->blocked;
+      blocked.resize(pixels.receivers.size());
+      engine::Outputs outputs;
+      outputs.blocked = blocked;
+      if (auto ok = engine.run(pixels.receivers, outputs, run); !ok) return std::unexpected(ok.error());
+      masks = MaskSet();
+    } else {
+      masks = engine.pixel_masks(pixels, camera, run);
+    }
+  }
+  seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (!masks) return std::unexpected(masks.error());
+  if (!invocation.merge) {
+    blocked.resize(masks->size());
+    for (std::size_t r = 0; r < blocked.size(); ++r) blocked[r] = static_cast<std::uint32_t>(masks->blocked_count(r));
+  }
+  return blocked;
+}
+
 int run_render(const RenderOptions& options, const Invocation& invocation) {
   const std::string output = invocation.merge && !invocation.merge->output.empty() ? invocation.merge->output : options.output;
   if (auto ok = check_output(output, options.scene.scene); !ok) return report(ok.error());
   if (auto ok = check_output(options.png, options.scene.scene); !ok) return report(ok.error());
-  Result<engine::Options> engine_options = make_options(options.scene, options.rays, options.method);
+  Result<engine::Options> engine_options = render_options(options);
   if (!engine_options) return report(engine_options.error());
-  Result<std::optional<raster::LodOptions>> lod = parse_lod(options.lod);
-  if (!lod) return report(lod.error());
-  engine_options->lod = *lod;
-  if (auto ok = engine::check_options(*engine_options); !ok) return report(ok.error());
-  if (auto ok = engine::check_serves(*engine_options, engine::Receivers::Pixels); !ok) return report(ok.error());
   Result<std::optional<engine::Shard>> shard = resolve_shard(options.shard);
   if (!shard) return report(shard.error());
   // Raster draws the whole image at once: it has no chunks of receivers to share out.
@@ -95,34 +136,12 @@ int run_render(const RenderOptions& options, const Invocation& invocation) {
   }
 
   engine::Stats stats;
-  Result<MaskSet> masks;
-  std::vector<std::uint32_t> blocked;
-  const auto start = std::chrono::steady_clock::now();
-  {
-    ProgressBar bar("render");
-    engine::RunOptions run;
-    run.progress = bar.callback();
-    if (options.stats) run.stats = &stats;
-    if (invocation.merge) {
-      // The parts' counts: no rays are cast (engine::RunOptions::supplied_blocked).
-      run.supplied_blocked = invocation.merge->blocked;
-      blocked.resize(pixels.receivers.size());
-      engine::Outputs outputs;
-      outputs.blocked = blocked;
-      if (auto ok = engine->run(pixels.receivers, outputs, run); !ok) return report(ok.error());
-      masks = MaskSet();
-    } else {
-      masks = engine->pixel_masks(pixels, view->camera, run);
-    }
-  }
-  const double seconds =
-      gbuffer_seconds + std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  if (!masks) return report(masks.error());
-
-  if (!invocation.merge) {
-    blocked.resize(masks->size());
-    for (std::size_t r = 0; r < blocked.size(); ++r) blocked[r] = static_cast<std::uint32_t>(masks->blocked_count(r));
-  }
+  double run_seconds = 0.0;
+  Result<std::vector<std::uint32_t>> counts =
+      blocked_counts(*engine, pixels, view->camera, invocation, options.stats ? &stats : nullptr, run_seconds);
+  if (!counts) return report(counts.error());
+  const double seconds = gbuffer_seconds + run_seconds;
+  const std::vector<std::uint32_t>& blocked = *counts;
   const AoImage image = to_image(pixels, blocked, engine->samples(), options.counts);
   if (auto ok = write_exr(image, output); !ok) return report(ok.error());
   if (!options.png.empty()) {

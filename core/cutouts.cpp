@@ -86,20 +86,11 @@ double AlphaTexture::sample(double u, double v) const {
   return (1.0 - ay) * top + ay * bottom;
 }
 
-const char* blend_rule_name(BlendRule rule) {
-  switch (rule) {
-    case BlendRule::Opaque: return "opaque";
-    case BlendRule::Cutoff: return "cutoff";
-    case BlendRule::Stochastic: return "stochastic";
-  }
-  return "?";
-}
+const char* blend_rule_name(BlendRule rule) { return name_of(rule); }
 
 Result<BlendRule> parse_blend_rule(const std::string& name) {
-  for (const BlendRule r : {BlendRule::Opaque, BlendRule::Cutoff, BlendRule::Stochastic}) {
-    if (name == blend_rule_name(r)) return r;
-  }
-  return fail("blend: unknown rule '" + name + "' (opaque, cutoff or stochastic)");
+  if (const std::optional<BlendRule> r = parse_enum<BlendRule>(name)) return *r;
+  return fail("blend: unknown rule '" + name + "' (" + name_list<BlendRule>() + ")");
 }
 
 Result<void> check_policy(const CutoutPolicy& policy) {

@@ -17,6 +17,7 @@
 
 #include <glm/glm.hpp>
 
+#include "core/enum_names.h"
 #include "core/error.h"
 #include "core/receiver_frame.h"
 #include "core/shadow_rays.h"
@@ -71,6 +72,11 @@ struct CutoutTriangle {
 /// What `--cutouts` and `--blend` choose: whether MASK materials cut out at all, and what BLEND
 /// materials do (opaque by default; a cutoff at blend_cutoff; or a stochastic test).
 enum class BlendRule { Opaque, Cutoff, Stochastic };
+
+[[nodiscard]] constexpr auto enum_names(BlendRule) {
+  return std::to_array<EnumName<BlendRule>>(
+      {{BlendRule::Opaque, "opaque"}, {BlendRule::Cutoff, "cutoff"}, {BlendRule::Stochastic, "stochastic"}});
+}
 
 struct CutoutPolicy {
   bool enabled = true;                 // false: every triangle opaque, as before cut-outs

@@ -314,21 +314,11 @@ std::size_t EmbreeScene::occlude_selected(const ShadowRays& rays, std::span<cons
   return cast;
 }
 
-const char* embree_rays_name(EmbreeRays rays) {
-  switch (rays) {
-    case EmbreeRays::Single: return "single";
-    case EmbreeRays::Packet4: return "packet4";
-    case EmbreeRays::Packet8: return "packet8";
-    case EmbreeRays::Packet16: return "packet16";
-  }
-  return "?";
-}
+const char* embree_rays_name(EmbreeRays rays) { return name_of(rays); }
 
 Result<EmbreeRays> parse_embree_rays(const std::string& name) {
-  for (const EmbreeRays r : {EmbreeRays::Single, EmbreeRays::Packet4, EmbreeRays::Packet8, EmbreeRays::Packet16}) {
-    if (name == embree_rays_name(r)) return r;
-  }
-  return fail("embree.rays: unknown mode '" + name + "' (single, packet4, packet8 or packet16)");
+  if (const std::optional<EmbreeRays> r = parse_enum<EmbreeRays>(name)) return *r;
+  return fail("embree.rays: unknown mode '" + name + "' (" + name_list<EmbreeRays>() + ")");
 }
 
 EmbreeScene::EmbreeScene(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}

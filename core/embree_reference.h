@@ -10,6 +10,7 @@
 
 #include <glm/glm.hpp>
 
+#include "core/enum_names.h"
 #include "core/error.h"
 #include "core/mask_set.h"
 #include "core/progress.h"
@@ -20,6 +21,13 @@ namespace exao {
 
 /// How Embree is asked about the rays: one at a time, or in packets of 4, 8 or 16.
 enum class EmbreeRays { Single, Packet4, Packet8, Packet16 };
+
+[[nodiscard]] constexpr auto enum_names(EmbreeRays) {
+  return std::to_array<EnumName<EmbreeRays>>({{EmbreeRays::Single, "single"},
+                                              {EmbreeRays::Packet4, "packet4"},
+                                              {EmbreeRays::Packet8, "packet8"},
+                                              {EmbreeRays::Packet16, "packet16"}});
+}
 
 [[nodiscard]] const char* embree_rays_name(EmbreeRays rays);
 [[nodiscard]] Result<EmbreeRays> parse_embree_rays(const std::string& name);

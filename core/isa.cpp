@@ -8,7 +8,7 @@
 namespace exao {
 namespace {
 
-constexpr std::array kAll = {Isa::Scalar, Isa::Sse2, Isa::Sse4, Isa::Avx2, Isa::Avx512};
+constexpr std::array kAll = all_values<Isa>();
 
 bool cpu_runs(Isa isa) {
 #if defined(__x86_64__) || defined(__i386__)
@@ -32,23 +32,12 @@ bool cpu_runs(Isa isa) {
 
 }  // namespace
 
-const char* isa_name(Isa isa) {
-  switch (isa) {
-    case Isa::Scalar: return "scalar";
-    case Isa::Sse2: return "sse2";
-    case Isa::Sse4: return "sse4";
-    case Isa::Avx2: return "avx2";
-    case Isa::Avx512: return "avx512";
-  }
-  return "?";
-}
+const char* isa_name(Isa isa) { return name_of(isa); }
 
 Result<std::optional<Isa>> parse_isa(std::string_view name) {
   if (name == "auto") return std::optional<Isa>{};
-  for (const Isa isa : kAll) {
-    if (name == isa_name(isa)) return std::optional<Isa>{isa};
-  }
-  return fail("isa: '" + std::string(name) + "' is not an instruction set (auto, scalar, sse2, sse4, avx2 or avx512)");
+  if (const std::optional<Isa> isa = parse_enum<Isa>(name)) return isa;
+  return fail("isa: '" + std::string(name) + "' is not an instruction set (auto, " + name_list<Isa>() + ")");
 }
 
 int isa_lanes(Isa isa) {

@@ -16,11 +16,17 @@
 #include <string>
 #include <string_view>
 
+#include "core/enum_names.h"
 #include "core/error.h"
 
 namespace exao {
 
 enum class Isa { Scalar, Sse2, Sse4, Avx2, Avx512 };
+
+[[nodiscard]] constexpr auto enum_names(Isa) {
+  return std::to_array<EnumName<Isa>>(
+      {{Isa::Scalar, "scalar"}, {Isa::Sse2, "sse2"}, {Isa::Sse4, "sse4"}, {Isa::Avx2, "avx2"}, {Isa::Avx512, "avx512"}});
+}
 
 [[nodiscard]] const char* isa_name(Isa isa);
 /// "scalar", "sse2", "sse4", "avx2", "avx512", or "auto" (nullopt: the best this CPU runs).

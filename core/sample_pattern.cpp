@@ -222,20 +222,11 @@ void finish(SamplePattern& pattern) {
 
 }  // namespace
 
-const char* falloff_name(Falloff falloff) {
-  switch (falloff) {
-    case Falloff::Constant: return "constant";
-    case Falloff::Linear: return "linear";
-    case Falloff::Quadratic: return "quadratic";
-  }
-  return "?";
-}
+const char* falloff_name(Falloff falloff) { return name_of(falloff); }
 
 Result<Falloff> parse_falloff(const std::string& name) {
-  for (const Falloff f : {Falloff::Constant, Falloff::Linear, Falloff::Quadratic}) {
-    if (name == falloff_name(f)) return f;
-  }
-  return fail("falloff: unknown falloff '" + name + "' (constant, linear or quadratic)");
+  if (const std::optional<Falloff> f = parse_enum<Falloff>(name)) return *f;
+  return fail("falloff: unknown falloff '" + name + "' (" + name_list<Falloff>() + ")");
 }
 
 Result<void> check_sample_count(int count) {

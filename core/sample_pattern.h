@@ -9,6 +9,7 @@
 
 #include <glm/glm.hpp>
 
+#include "core/enum_names.h"
 #include "core/error.h"
 
 namespace exao {
@@ -16,6 +17,11 @@ namespace exao {
 /// How occlusion fades with the distance D to the occluder, as the falloff rho(D) of Eq. 1:
 /// constant: rho = 1 for D < r;  linear: rho = 1 - D/r;  quadratic: rho = (1 - D/r)^2.
 enum class Falloff { Constant, Linear, Quadratic };
+
+[[nodiscard]] constexpr auto enum_names(Falloff) {
+  return std::to_array<EnumName<Falloff>>(
+      {{Falloff::Constant, "constant"}, {Falloff::Linear, "linear"}, {Falloff::Quadratic, "quadratic"}});
+}
 
 [[nodiscard]] const char* falloff_name(Falloff falloff);
 [[nodiscard]] Result<Falloff> parse_falloff(const std::string& name);

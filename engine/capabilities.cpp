@@ -30,9 +30,7 @@ bool holds(std::span<const T> values, T value) {
 
 }  // namespace
 
-const char* receivers_name(Receivers receivers) {
-  return receivers == Receivers::Points ? "points" : "pixels";
-}
+const char* receivers_name(Receivers receivers) { return name_of(receivers); }
 
 const Capabilities& capabilities(Method method) {
   switch (method) {

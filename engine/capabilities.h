@@ -5,6 +5,7 @@
 
 #include <span>
 
+#include "core/enum_names.h"
 #include "core/error.h"
 #include "core/sample_pattern.h"
 #include "core/scene.h"
@@ -18,6 +19,10 @@ enum class Receivers {
   Points,  // any points with normals (vertices, texels, a renderer's shading points)
   Pixels,  // the pixels of a camera image
 };
+
+[[nodiscard]] constexpr auto enum_names(Receivers) {
+  return std::to_array<EnumName<Receivers>>({{Receivers::Points, "points"}, {Receivers::Pixels, "pixels"}});
+}
 
 [[nodiscard]] const char* receivers_name(Receivers receivers);
 

@@ -14,6 +14,68 @@ bool uses(std::span<const Method> methods, Method method) {
   return std::find(methods.begin(), methods.end(), method) != methods.end();
 }
 
+// What the methods of a geometry need built: raster draws the scene, and pixel receivers read its
+// triangles' normals (keep_scene); auto is bvh's traversal with Embree.
+struct Backends {
+  bool raster = false;
+  bool keep_scene = false;
+  bool embree = false;
+  bool brute = false;
+  bool bvh = false;
+};
+
+Backends backends_of(std::span<const Method> methods, const GeometryOptions& options) {
+  Backends b;
+  b.raster = uses(methods, Method::Raster);
+  b.keep_scene = b.raster || options.embree;
+  b.embree = options.embree || uses(methods, Method::Embree) || uses(methods, Method::Auto);
+  b.brute = uses(methods, Method::Brute);
+  b.bvh = uses(methods, Method::Bvh) || uses(methods, Method::Auto);
+  return b;
+}
+
+struct BuiltBackends {
+  std::unique_ptr<EmbreeScene> embree;
+  std::unique_ptr<bvh::Bvh> bvh;
+  std::unique_ptr<lut::TriangleSet> triangles;
+};
+
+// The backends' structures over `source`, in a TBB arena of options.threads. Embree reads the
+// vertices in place when `shareable` (a scene of ours).
+Result<BuiltBackends> build_backends(const Backends& b, const Scene& source, bool shareable, Scene* disposable,
+                                     const GeometryOptions& options) {
+  BuiltBackends out;
+  tbb::task_arena arena(options.threads > 0 ? options.threads : static_cast<int>(tbb::task_arena::automatic));
+  Result<void> built;
+  arena.execute([&] {
+    if (b.embree) {
+      Result<EmbreeScene> reference = shareable ? EmbreeScene::build_sharing(source) : EmbreeScene::build(source);
+      if (!reference) {
+        built = std::unexpected(reference.error());
+        return;
+      }
+      out.embree = std::make_unique<EmbreeScene>(std::move(*reference));
+    }
+    if (b.bvh) {
+      // Straight from the scene: the BVH keeps its own copy in leaf order, so the scene-order
+      // set (53 bytes a triangle) is made only for brute and raster, after the tree. A
+      // disposable scene that nothing reads afterwards is freed inside the build, before the
+      // leaf blocks are made.
+      const bool free_inside = disposable && !b.embree && !b.brute && !b.raster;
+      Result<bvh::Bvh> tree = free_inside ? bvh::Bvh::build(std::move(*disposable), options.bvh, options.progress)
+                                          : bvh::Bvh::build(source, options.bvh, options.progress);
+      if (!tree) {
+        built = std::unexpected(tree.error());
+        return;
+      }
+      out.bvh = std::make_unique<bvh::Bvh>(std::move(*tree));
+    }
+    if (b.brute || b.raster) out.triangles = std::make_unique<lut::TriangleSet>(lut::TriangleSet::build(source));
+  });
+  if (!built) return std::unexpected(built.error());
+  return out;
+}
+
 }  // namespace
 
 bool Geometry::serves(Method method) const {
@@ -47,11 +109,8 @@ Result<std::shared_ptr<const Geometry>> Geometry::build_from(const Scene& scene,
   if (auto ok = bvh::check_options(options.bvh); !ok) return std::unexpected(ok.error());
   if (scene.triangle_count() == 0) return fail(scene.name + ": the scene has no triangle of non-zero area");
   auto geometry = std::make_shared<Geometry>();
-  const bool raster = uses(methods, Method::Raster);
-  const bool keep_scene = raster || options.embree;
-  const bool embree = options.embree || uses(methods, Method::Embree) || uses(methods, Method::Auto);
-  const bool brute = uses(methods, Method::Brute);
-  const bool bvh = uses(methods, Method::Bvh) || uses(methods, Method::Auto);
+  const Backends backends = backends_of(methods, options);
+  const bool keep_scene = backends.keep_scene;
   // The backends see the scene with the sidedness applied; a copy only when it changes or must
   // be kept (raster draws it, pixel receivers read its triangles' normals) and the caller keeps
   // the original.
@@ -85,44 +144,21 @@ Result<std::shared_ptr<const Geometry>> Geometry::build_from(const Scene& scene,
   // Embree reads the vertices of a scene of ours in place: the kept copy's, or the disposable
   // one's, which are then moved (not copied) to embree_vertices_.
   Scene* shareable = keep_scene ? &*geometry->scene_ : disposable;
-  if (embree && shareable) {
+  if (backends.embree && shareable) {
     std::vector<glm::vec3>& vertices = shareable->vertices;
     if (vertices.capacity() < vertices.size() + Scene::kVertexPadding) vertices.reserve(vertices.size() + Scene::kVertexPadding);
   }
-  tbb::task_arena arena(options.threads > 0 ? options.threads : static_cast<int>(tbb::task_arena::automatic));
-  Result<void> built;
-  arena.execute([&] {
-    if (embree) {
-      Result<EmbreeScene> reference = shareable ? EmbreeScene::build_sharing(*source) : EmbreeScene::build(*source);
-      if (!reference) {
-        built = std::unexpected(reference.error());
-        return;
-      }
-      geometry->embree_ = std::make_unique<EmbreeScene>(std::move(*reference));
-    }
-    if (bvh) {
-      // Straight from the scene: the BVH keeps its own copy in leaf order, so the scene-order
-      // set (53 bytes a triangle) is made only for brute and raster, after the tree. A
-      // disposable scene that nothing reads afterwards is freed inside the build, before the
-      // leaf blocks are made.
-      const bool free_inside = disposable && !embree && !brute && !raster;
-      Result<bvh::Bvh> tree = free_inside ? bvh::Bvh::build(std::move(*disposable), options.bvh, options.progress)
-                                          : bvh::Bvh::build(*source, options.bvh, options.progress);
-      if (!tree) {
-        built = std::unexpected(tree.error());
-        return;
-      }
-      geometry->bvh_ = std::make_unique<bvh::Bvh>(std::move(*tree));
-    }
-    if (brute || raster) geometry->triangles_ = std::make_unique<lut::TriangleSet>(lut::TriangleSet::build(*source));
-  });
+  Result<BuiltBackends> built = build_backends(backends, *source, shareable != nullptr, disposable, options);
   if (!built) return std::unexpected(built.error());
+  geometry->embree_ = std::move(built->embree);
+  geometry->bvh_ = std::move(built->bvh);
+  geometry->triangles_ = std::move(built->triangles);
   if (disposable) {
     if (geometry->embree_ && geometry->embree_->shares_vertices()) geometry->embree_vertices_ = std::move(disposable->vertices);
     *disposable = Scene{};
   }
   if (!keep_scene) geometry->scene_.reset();
-  if (raster) geometry->lod_cache_ = std::make_unique<LodCache>(*geometry->scene_);
+  if (backends.raster) geometry->lod_cache_ = std::make_unique<LodCache>(*geometry->scene_);
   return std::shared_ptr<const Geometry>(std::move(geometry));
 }
 

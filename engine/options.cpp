@@ -10,7 +10,6 @@
 namespace exao::engine {
 namespace {
 
-constexpr std::array kMethods{Method::Auto, Method::Embree, Method::Brute, Method::Bvh, Method::Raster};
 
 // Every field of Options, as errors name them.
 constexpr std::array<std::string_view, 29> kOptionNames{
@@ -30,22 +29,11 @@ std::string number(int value) { return std::to_string(value); }
 
 }  // namespace
 
-const char* method_name(Method method) {
-  switch (method) {
-    case Method::Embree: return "embree";
-    case Method::Brute: return "brute";
-    case Method::Bvh: return "bvh";
-    case Method::Raster: return "raster";
-    case Method::Auto: return "auto";
-  }
-  return "?";
-}
+const char* method_name(Method method) { return name_of(method); }
 
 Result<Method> parse_method(const std::string& name) {
-  for (const Method m : kMethods) {
-    if (name == method_name(m)) return m;
-  }
-  return fail("method: unknown method '" + name + "' (auto, embree, brute, bvh or raster), got '" + name + "'");
+  if (const std::optional<Method> m = parse_enum<Method>(name)) return *m;
+  return fail("method: unknown method '" + name + "' (" + name_list<Method>() + "), got '" + name + "'");
 }
 
 int max_threads() {

@@ -17,6 +17,7 @@
 #include "bvh/hybrid.h"
 #include "core/cutouts.h"
 #include "core/embree_reference.h"
+#include "core/enum_names.h"
 #include "core/error.h"
 #include "core/isa.h"
 #include "core/sample_pattern.h"
@@ -30,6 +31,14 @@ namespace exao::engine {
 /// The backends of DESIGN.md section 5. Auto (the default) is bvh's traversal with Embree for
 /// the rays masks do not decide cheaply or surely (bvh/hybrid.h): Embree's answer on every ray.
 enum class Method { Embree, Brute, Bvh, Raster, Auto };
+
+[[nodiscard]] constexpr auto enum_names(Method) {
+  return std::to_array<EnumName<Method>>({{Method::Auto, "auto"},
+                                          {Method::Embree, "embree"},
+                                          {Method::Brute, "brute"},
+                                          {Method::Bvh, "bvh"},
+                                          {Method::Raster, "raster"}});
+}
 
 [[nodiscard]] const char* method_name(Method method);
 /// "auto", "embree", "brute", "bvh" or "raster"; the error names the option "method".

@@ -35,6 +35,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -509,45 +510,49 @@ std::uint8_t to_srgb8(float linear) {
   return static_cast<std::uint8_t>(std::lround(255.0f * v));
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+// The command line: -o, -W, -H, --spp, --samples, --radius, --object-radius, --measure-ao.
+struct Args {
   std::string output = "renderer.png";
   int width = 960, height = 540, spp = 4, samples = 64;
   float radius = 1.0f, object_radius = 0.4f;
   bool measure = false;
+};
+
+// nullopt after printing the usage or the problem (exit status 2).
+std::optional<Args> parse_args(int argc, char** argv) {
+  Args a;
   for (int i = 1; i < argc; i += 2) {
     const std::string flag = argv[i];
     if (flag == "--measure-ao") {
-      measure = true;
+      a.measure = true;
       --i;
       continue;
     }
     const std::string value = i + 1 < argc ? argv[i + 1] : "";
-    if (flag == "-o") output = value;
-    else if (flag == "-W") width = std::atoi(value.c_str());
-    else if (flag == "-H") height = std::atoi(value.c_str());
-    else if (flag == "--spp") spp = std::atoi(value.c_str());
-    else if (flag == "--samples") samples = std::atoi(value.c_str());
-    else if (flag == "--radius") radius = std::strtof(value.c_str(), nullptr);
-    else if (flag == "--object-radius") object_radius = std::strtof(value.c_str(), nullptr);
+    if (flag == "-o") a.output = value;
+    else if (flag == "-W") a.width = std::atoi(value.c_str());
+    else if (flag == "-H") a.height = std::atoi(value.c_str());
+    else if (flag == "--spp") a.spp = std::atoi(value.c_str());
+    else if (flag == "--samples") a.samples = std::atoi(value.c_str());
+    else if (flag == "--radius") a.radius = std::strtof(value.c_str(), nullptr);
+    else if (flag == "--object-radius") a.object_radius = std::strtof(value.c_str(), nullptr);
     else {
       std::fprintf(stderr,
                    "usage: exao_renderer [-o out.png] [-W 960] [-H 540] [--spp 4] [--samples 64] [--radius 1] "
                    "[--object-radius 0.4] [--measure-ao]\n");
-      return 2;
+      return std::nullopt;
     }
   }
-  if (width < 1 || height < 1 || spp < 1) {
+  if (a.width < 1 || a.height < 1 || a.spp < 1) {
     std::fprintf(stderr, "exao_renderer: -W, -H and --spp must be positive\n");
-    return 2;
+    return std::nullopt;
   }
+  return a;
+}
 
-  const Geometry g = make_scene();
-  const Tracer tracer(g);
-
-  // exao: one engine for the whole scene, mirrors included (they occlude too), built once. The
-  // pebbles are instances of one mesh, read from the renderer's own arrays (nothing copied).
+// exao: one engine for the whole scene, mirrors included (they occlude too), built once. The
+// pebbles are instances of one mesh, read from the renderer's own arrays (nothing copied).
+exao::api::Result<exao::api::Engine> build_engine(const Geometry& g, const Args& a) {
   exao::api::Mesh meshes[2];
   meshes[0].vertices = g.positions.data();
   meshes[0].vertex_count = g.positions.size() / 3;
@@ -559,27 +564,13 @@ int main(int argc, char** argv) {
   std::vector<exao::api::Instance> instances{{0, nullptr}};
   for (const auto& at : g.pebble_at) instances.push_back({1, at.data()});
   exao::api::Options options;
-  options.radius = radius;
-  options.samples = samples;
-  exao::api::Result<exao::api::Engine> engine = exao::api::Engine::build(meshes, instances, options);
-  if (!engine) {
-    std::fprintf(stderr, "exao_renderer: %s\n", engine.error().message.c_str());
-    return 1;
-  }
+  options.radius = a.radius;
+  options.samples = a.samples;
+  return exao::api::Engine::build(meshes, instances, options);
+}
 
-  exao::api::QuerySettings objects;
-  objects.radius = object_radius;
-  exao::api::Result<exao::api::Engine> object_engine = engine->with_settings(objects);
-  if (!object_engine) {
-    std::fprintf(stderr, "exao_renderer: --object-radius: %s\n", object_engine.error().message.c_str());
-    return 1;
-  }
-
-  Renderer renderer{g, tracer, *engine, *object_engine};
-  renderer.width = width;
-  renderer.height = height;
-  renderer.spp = spp;
-  if (measure) return measure_ao(renderer, tracer, radius, object_radius, samples);
+// The image as 8-bit sRGB, rows shared out to one thread per core.
+std::vector<std::uint8_t> render_image(const Renderer& renderer, int width, int height) {
   std::vector<std::uint8_t> rgb(static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 3);
   std::atomic<int> next_row{0};
   std::vector<std::thread> workers;
@@ -598,12 +589,42 @@ int main(int argc, char** argv) {
     });
   }
   for (std::thread& worker : workers) worker.join();
-  if (renderer.ao_failures > 0) std::fprintf(stderr, "exao_renderer: %d AO queries failed\n", renderer.ao_failures.load());
-  if (!write_png(output, width, height, rgb)) {
-    std::fprintf(stderr, "exao_renderer: %s: cannot write\n", output.c_str());
+  return rgb;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const std::optional<Args> args = parse_args(argc, argv);
+  if (!args) return 2;
+  const Args& a = *args;
+  const Geometry g = make_scene();
+  const Tracer tracer(g);
+  exao::api::Result<exao::api::Engine> engine = build_engine(g, a);
+  if (!engine) {
+    std::fprintf(stderr, "exao_renderer: %s\n", engine.error().message.c_str());
     return 1;
   }
-  std::printf("%s: %d x %d, %d samples per pixel, AO N = %d, r = %g (objects %g, %s backend)\n", output.c_str(), width,
-              height, spp, samples, static_cast<double>(radius), static_cast<double>(object_radius), "auto");
+  exao::api::QuerySettings objects;
+  objects.radius = a.object_radius;
+  exao::api::Result<exao::api::Engine> object_engine = engine->with_settings(objects);
+  if (!object_engine) {
+    std::fprintf(stderr, "exao_renderer: --object-radius: %s\n", object_engine.error().message.c_str());
+    return 1;
+  }
+
+  Renderer renderer{g, tracer, *engine, *object_engine};
+  renderer.width = a.width;
+  renderer.height = a.height;
+  renderer.spp = a.spp;
+  if (a.measure) return measure_ao(renderer, tracer, a.radius, a.object_radius, a.samples);
+  const std::vector<std::uint8_t> rgb = render_image(renderer, a.width, a.height);
+  if (renderer.ao_failures > 0) std::fprintf(stderr, "exao_renderer: %d AO queries failed\n", renderer.ao_failures.load());
+  if (!write_png(a.output, a.width, a.height, rgb)) {
+    std::fprintf(stderr, "exao_renderer: %s: cannot write\n", a.output.c_str());
+    return 1;
+  }
+  std::printf("%s: %d x %d, %d samples per pixel, AO N = %d, r = %g (objects %g, %s backend)\n", a.output.c_str(), a.width,
+              a.height, a.spp, a.samples, static_cast<double>(a.radius), static_cast<double>(a.object_radius), "auto");
   return 0;
 }

@@ -10,14 +10,15 @@
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <limits>
 #include <map>
 #include <optional>
+#include <span>
 #include <string_view>
 
 #include <nlohmann/json.hpp>
+
+#include "io/file_bytes.h"
 
 namespace exao::gltf {
 namespace {
@@ -203,12 +204,9 @@ bool convert(const draco::PointAttribute& attribute, const draco::Mesh& mesh, in
   }
 }
 
-Result<void> decode_draco(tinygltf::Model& model, std::size_t mesh_index, std::size_t prim_index, Output& output,
-                          std::vector<bool>& decoded_accessor) {
-  tinygltf::Primitive& prim = model.meshes[mesh_index].primitives[prim_index];
-  const std::string where = "mesh " + std::to_string(mesh_index) + " primitive " + std::to_string(prim_index) + " " +
-                            std::string(kDraco);
-  const tinygltf::Value& ext = prim.extensions.at(std::string(kDraco));
+// The bytes of the extension's buffer view, checked against the model's views and buffers.
+Result<std::span<const unsigned char>> draco_stream(const tinygltf::Model& model, const tinygltf::Value& ext,
+                                                    const std::string& where) {
   if (!ext.IsObject() || !ext.Has("bufferView") || !ext.Get("bufferView").IsNumber() || !ext.Has("attributes") ||
       !ext.Get("attributes").IsObject()) {
     return fail(where + " has no bufferView or attributes");
@@ -226,14 +224,87 @@ Result<void> decode_draco(tinygltf::Model& model, std::size_t mesh_index, std::s
   if (view.byteOffset > data.size() || view.byteLength > data.size() - view.byteOffset) {
     return fail(where + ": buffer view " + std::to_string(view_index) + " exceeds its buffer");
   }
+  return std::span<const unsigned char>(data.data() + view.byteOffset, view.byteLength);
+}
 
+// A decoded attribute into its glTF accessor: converted to the accessor's type, bounds
+// recomputed, in a new buffer view of a 4-byte aligned stride.
+Result<void> fill_draco_attribute(const draco::PointAttribute& attribute, const draco::Mesh& mesh,
+                                  tinygltf::Accessor& accessor, Output& output, const std::string& what) {
+  const std::size_t points = mesh.num_points();
+  const int components = tinygltf::GetNumComponentsInType(static_cast<std::uint32_t>(accessor.type));
+  if (components < 1 || components > 4 || component_bytes(accessor.componentType) == 0) {
+    return fail(what + " has an accessor type Draco cannot fill");
+  }
+  std::vector<unsigned char> bytes;
+  if (!convert(attribute, mesh, accessor.componentType, components, bytes)) {
+    return fail(what + " cannot be converted to its accessor's type");
+  }
+  accessor.count = points;
+  accessor.byteOffset = 0;
+  accessor.sparse = {};
+  recompute_bounds(accessor, bytes, components);
+  const int element = components * component_bytes(accessor.componentType);
+  // Vertex attribute views need a 4-byte aligned stride (glTF 2.0 section 3.6.2.4).
+  if (element % 4 != 0) {
+    const std::size_t padded = static_cast<std::size_t>((element + 3) / 4 * 4);
+    std::vector<unsigned char> strided(points * padded, 0);
+    for (std::size_t i = 0; i < points; ++i) {
+      std::memcpy(strided.data() + i * padded, bytes.data() + i * static_cast<std::size_t>(element), static_cast<std::size_t>(element));
+    }
+    accessor.bufferView = output.view(std::move(strided), TINYGLTF_TARGET_ARRAY_BUFFER, static_cast<int>(padded));
+  } else {
+    accessor.bufferView = output.view(std::move(bytes), TINYGLTF_TARGET_ARRAY_BUFFER, element);
+  }
+  return {};
+}
+
+// The decoded faces into the primitive's index accessor: the accessor's index type, unless a
+// point index does not fit it.
+void fill_draco_indices(const draco::Mesh& mesh, tinygltf::Accessor& accessor, Output& output) {
+  const std::size_t points = mesh.num_points();
+  int type = accessor.componentType;
+  if (type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT) {
+    type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
+  }
+  if ((type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && points > 0xffu) ||
+      (type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT && points > 0xffffu)) {
+    type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
+  }
+  const auto size = static_cast<std::size_t>(component_bytes(type));
+  std::vector<unsigned char> bytes(static_cast<std::size_t>(mesh.num_faces()) * 3 * size, 0);
+  std::size_t at = 0;
+  for (draco::FaceIndex f(0); f < mesh.num_faces(); ++f) {
+    for (const draco::PointIndex& p : mesh.face(f)) {
+      const std::uint32_t v = p.value();
+      std::memcpy(bytes.data() + at, &v, size);  // little-endian: the low bytes first
+      at += size;
+    }
+  }
+  accessor.componentType = type;
+  accessor.type = TINYGLTF_TYPE_SCALAR;
+  accessor.count = static_cast<std::size_t>(mesh.num_faces()) * 3;
+  accessor.byteOffset = 0;
+  accessor.sparse = {};
+  accessor.normalized = false;
+  recompute_bounds(accessor, bytes, 1);
+  accessor.bufferView = output.view(std::move(bytes), TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER, 0);
+}
+
+Result<void> decode_draco(tinygltf::Model& model, std::size_t mesh_index, std::size_t prim_index, Output& output,
+                          std::vector<bool>& decoded_accessor) {
+  tinygltf::Primitive& prim = model.meshes[mesh_index].primitives[prim_index];
+  const std::string where = "mesh " + std::to_string(mesh_index) + " primitive " + std::to_string(prim_index) + " " +
+                            std::string(kDraco);
+  const tinygltf::Value& ext = prim.extensions.at(std::string(kDraco));
+  Result<std::span<const unsigned char>> data = draco_stream(model, ext, where);
+  if (!data) return std::unexpected(data.error());
   draco::DecoderBuffer stream;
-  stream.Init(reinterpret_cast<const char*>(data.data() + view.byteOffset), view.byteLength);
+  stream.Init(reinterpret_cast<const char*>(data->data()), data->size());
   draco::Decoder decoder;
   auto decoded = decoder.DecodeMeshFromBuffer(&stream);
   if (!decoded.ok()) return fail(where + " does not decode: " + decoded.status().error_msg_string());
   const std::unique_ptr<draco::Mesh> mesh = std::move(decoded).value();
-  const std::size_t points = mesh->num_points();
 
   const tinygltf::Value& attributes = ext.Get("attributes");
   for (const std::string& name : attributes.Keys()) {
@@ -246,33 +317,10 @@ Result<void> decode_draco(tinygltf::Model& model, std::size_t mesh_index, std::s
                   std::to_string(model.accessors.size()));
     }
     if (decoded_accessor[static_cast<std::size_t>(accessor_index)]) continue;  // shared with a primitive decoded already
-    tinygltf::Accessor& accessor = model.accessors[static_cast<std::size_t>(accessor_index)];
     const draco::PointAttribute* attribute = mesh->GetAttributeByUniqueId(static_cast<std::uint32_t>(id.GetNumberAsInt()));
     if (attribute == nullptr) return fail(where + ": " + name + " has no attribute " + std::to_string(id.GetNumberAsInt()) + " in the stream");
-    const int components = tinygltf::GetNumComponentsInType(static_cast<std::uint32_t>(accessor.type));
-    if (components < 1 || components > 4 || component_bytes(accessor.componentType) == 0) {
-      return fail(where + ": " + name + " has an accessor type Draco cannot fill");
-    }
-    std::vector<unsigned char> bytes;
-    if (!convert(*attribute, *mesh, accessor.componentType, components, bytes)) {
-      return fail(where + ": " + name + " cannot be converted to its accessor's type");
-    }
-    accessor.count = points;
-    accessor.byteOffset = 0;
-    accessor.sparse = {};
-    recompute_bounds(accessor, bytes, components);
-    const int element = components * component_bytes(accessor.componentType);
-    // Vertex attribute views need a 4-byte aligned stride (glTF 2.0 section 3.6.2.4).
-    if (element % 4 != 0) {
-      const std::size_t padded = static_cast<std::size_t>((element + 3) / 4 * 4);
-      std::vector<unsigned char> strided(points * padded, 0);
-      for (std::size_t i = 0; i < points; ++i) {
-        std::memcpy(strided.data() + i * padded, bytes.data() + i * static_cast<std::size_t>(element), static_cast<std::size_t>(element));
-      }
-      accessor.bufferView = output.view(std::move(strided), TINYGLTF_TARGET_ARRAY_BUFFER, static_cast<int>(padded));
-    } else {
-      accessor.bufferView = output.view(std::move(bytes), TINYGLTF_TARGET_ARRAY_BUFFER, element);
-    }
+    tinygltf::Accessor& accessor = model.accessors[static_cast<std::size_t>(accessor_index)];
+    if (auto ok = fill_draco_attribute(*attribute, *mesh, accessor, output, where + ": " + name); !ok) return ok;
     decoded_accessor[static_cast<std::size_t>(accessor_index)] = true;
   }
 
@@ -282,34 +330,7 @@ Result<void> decode_draco(tinygltf::Model& model, std::size_t mesh_index, std::s
                   std::to_string(model.accessors.size()));
     }
     if (!decoded_accessor[static_cast<std::size_t>(prim.indices)]) {
-      tinygltf::Accessor& accessor = model.accessors[static_cast<std::size_t>(prim.indices)];
-      // The accessor's index type, unless a point index does not fit it.
-      int type = accessor.componentType;
-      if (type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT) {
-        type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
-      }
-      if ((type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && points > 0xffu) ||
-          (type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT && points > 0xffffu)) {
-        type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
-      }
-      const auto size = static_cast<std::size_t>(component_bytes(type));
-      std::vector<unsigned char> bytes(static_cast<std::size_t>(mesh->num_faces()) * 3 * size, 0);
-      std::size_t at = 0;
-      for (draco::FaceIndex f(0); f < mesh->num_faces(); ++f) {
-        for (const draco::PointIndex& p : mesh->face(f)) {
-          const std::uint32_t v = p.value();
-          std::memcpy(bytes.data() + at, &v, size);  // little-endian: the low bytes first
-          at += size;
-        }
-      }
-      accessor.componentType = type;
-      accessor.type = TINYGLTF_TYPE_SCALAR;
-      accessor.count = static_cast<std::size_t>(mesh->num_faces()) * 3;
-      accessor.byteOffset = 0;
-      accessor.sparse = {};
-      accessor.normalized = false;
-      recompute_bounds(accessor, bytes, 1);
-      accessor.bufferView = output.view(std::move(bytes), TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER, 0);
+      fill_draco_indices(*mesh, model.accessors[static_cast<std::size_t>(prim.indices)], output);
       decoded_accessor[static_cast<std::size_t>(prim.indices)] = true;
     }
   }
@@ -454,11 +475,10 @@ void drop_extension(std::vector<std::string>& list, std::string_view name) {
 
 bool load_file(tinygltf::TinyGLTF& context, tinygltf::Model& model, std::string& err, std::string& warn,
                const std::string& path, bool binary) {
-  std::ifstream in(path, std::ios::binary);
-  std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::vector<unsigned char> bytes;
   const std::string base = std::filesystem::path(path).parent_path().string();
   const std::string base_dir = base.empty() ? "." : base;
-  if (!in.eof() && in.fail()) {
+  if (!read_file_bytes(path, bytes)) {
     err = "cannot read the file";
     return false;
   }

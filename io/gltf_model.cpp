@@ -142,6 +142,52 @@ std::string one_line(std::string_view text) {
   return out.empty() ? "unreadable glTF" : out;
 }
 
+// The sparse substitution of `acc` (glTF 2.0 section 5.1.3) into `values`, its count * n
+// numbers: every index and value checked against its view and the accessor's count.
+Result<void> apply_sparse(const tinygltf::Model& model, const tinygltf::Accessor& acc, const std::string& name,
+                          std::vector<double>& values) {
+  const auto n = static_cast<std::size_t>(tinygltf::GetNumComponentsInType(static_cast<std::uint32_t>(acc.type)));
+  const auto size = static_cast<std::size_t>(component_size(acc.componentType));
+  const std::size_t element = n * size;
+  const int count = acc.sparse.count;
+  const int index_type = acc.sparse.indices.componentType;
+  if (count < 0 || static_cast<std::size_t>(count) > acc.count) {
+    return fail(name + ": sparse count " + std::to_string(count) + " exceeds count " +
+                std::to_string(acc.count));
+  }
+  if (std::find(kIndexTypes.begin(), kIndexTypes.end(), index_type) == kIndexTypes.end()) {
+    return fail(name + ": sparse indices have unsupported component type " +
+                std::to_string(index_type));
+  }
+  if (acc.sparse.indices.byteOffset < 0 || acc.sparse.values.byteOffset < 0) {
+    return fail(name + ": negative sparse byteOffset");
+  }
+  const auto sparse_count = static_cast<std::size_t>(count);
+  const auto index_size = static_cast<std::size_t>(component_size(index_type));
+  // Sparse indices and values are tightly packed (glTF 2.0 section 5.1.3).
+  auto index_bytes = view_bytes(model, acc.sparse.indices.bufferView,
+                                static_cast<std::size_t>(acc.sparse.indices.byteOffset),
+                                sparse_count, index_size, index_size, name + " sparse indices");
+  if (!index_bytes) return std::unexpected(index_bytes.error());
+  auto value_bytes = view_bytes(model, acc.sparse.values.bufferView,
+                                static_cast<std::size_t>(acc.sparse.values.byteOffset),
+                                sparse_count, element, element, name + " sparse values");
+  if (!value_bytes) return std::unexpected(value_bytes.error());
+  for (std::size_t i = 0; i < sparse_count; ++i) {
+    const auto target = static_cast<std::size_t>(
+        read_component(*index_bytes + i * index_size, index_type, false));
+    if (target >= acc.count) {
+      return fail(name + ": sparse index " + std::to_string(target) + " >= count " +
+                  std::to_string(acc.count));
+    }
+    for (std::size_t c = 0; c < n; ++c) {
+      values[target * n + c] = read_component(*value_bytes + i * element + c * size,
+                                              acc.componentType, acc.normalized);
+    }
+  }
+  return {};
+}
+
 // Reads accessor `index` as `count * components` numbers, decoded per read_component, with
 // byteStride honoured and any sparse substitution applied. `allowed` lists the component
 // types this use accepts; anything else is an error, as is a type of another width, or
@@ -203,42 +249,7 @@ Result<std::vector<double>> read_accessor(const tinygltf::Model& model, int inde
   }
 
   if (acc.sparse.isSparse) {
-    const int count = acc.sparse.count;
-    const int index_type = acc.sparse.indices.componentType;
-    if (count < 0 || static_cast<std::size_t>(count) > acc.count) {
-      return fail(name + ": sparse count " + std::to_string(count) + " exceeds count " +
-                  std::to_string(acc.count));
-    }
-    if (std::find(kIndexTypes.begin(), kIndexTypes.end(), index_type) == kIndexTypes.end()) {
-      return fail(name + ": sparse indices have unsupported component type " +
-                  std::to_string(index_type));
-    }
-    if (acc.sparse.indices.byteOffset < 0 || acc.sparse.values.byteOffset < 0) {
-      return fail(name + ": negative sparse byteOffset");
-    }
-    const auto sparse_count = static_cast<std::size_t>(count);
-    const auto index_size = static_cast<std::size_t>(component_size(index_type));
-    // Sparse indices and values are tightly packed (glTF 2.0 section 5.1.3).
-    auto index_bytes = view_bytes(model, acc.sparse.indices.bufferView,
-                                  static_cast<std::size_t>(acc.sparse.indices.byteOffset),
-                                  sparse_count, index_size, index_size, name + " sparse indices");
-    if (!index_bytes) return std::unexpected(index_bytes.error());
-    auto value_bytes = view_bytes(model, acc.sparse.values.bufferView,
-                                  static_cast<std::size_t>(acc.sparse.values.byteOffset),
-                                  sparse_count, element, element, name + " sparse values");
-    if (!value_bytes) return std::unexpected(value_bytes.error());
-    for (std::size_t i = 0; i < sparse_count; ++i) {
-      const auto target = static_cast<std::size_t>(
-          read_component(*index_bytes + i * index_size, index_type, false));
-      if (target >= acc.count) {
-        return fail(name + ": sparse index " + std::to_string(target) + " >= count " +
-                    std::to_string(acc.count));
-      }
-      for (std::size_t c = 0; c < n; ++c) {
-        values[target * n + c] = read_component(*value_bytes + i * element + c * size,
-                                                acc.componentType, acc.normalized);
-      }
-    }
+    if (auto ok = apply_sparse(model, acc, name, values); !ok) return std::unexpected(ok.error());
   }
   return values;
 }

@@ -22,6 +22,7 @@
 #include <glm/glm.hpp>
 
 #include "core/file_kind.h"
+#include "io/file_bytes.h"
 #include "io/ply_binary_reader.h"
 #include "io/stl_binary_reader.h"
 #include "io/soup_prescan.h"
@@ -102,26 +103,6 @@ std::string explain_obj_failure(const std::string& path) {
   }
   if (vertices == 0 || faces == 0) return "no triangles";
   return "not a readable OBJ file";
-}
-
-// The whole file, in large reads (istreambuf_iterator goes a byte at a time); `progress` gets
-// (bytes read, size).
-bool read_file(const std::string& path, std::string& out, const ProgressCallback& progress) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return false;
-  std::error_code error;
-  const auto size = std::filesystem::file_size(path, error);
-  if (error) return false;
-  out.resize(static_cast<std::size_t>(size));
-  constexpr std::size_t kChunk = std::size_t{1} << 24;
-  for (std::size_t done = 0; done < out.size();) {
-    const std::size_t chunk = std::min(kChunk, out.size() - done);
-    in.read(out.data() + done, static_cast<std::streamsize>(chunk));
-    if (static_cast<std::size_t>(in.gcount()) != chunk) return false;
-    done += chunk;
-    if (progress) progress(done, out.size());
-  }
-  return true;
 }
 
 // A load's progress in bytes: reading the file is the first half, making the scene the second.
@@ -216,7 +197,7 @@ bool read_with_cgal(const std::string& path, const std::string& ext, std::vector
 std::optional<Result<Scene>> read_binary_layout(const std::string& path, const std::string& ext,
                                                 const LoadProgress& progress) {
   std::string file;
-  if (!read_file(path, file, progress.reading())) return Result<Scene>(fail("cannot read the file"));
+  if (!read_file_bytes(path, file, progress.reading())) return Result<Scene>(fail("cannot read the file"));
   if (ext == ".stl") return read_binary_stl(file, progress.parsing());
   if (const std::string problem = ply_problem_in(file); !problem.empty()) return Result<Scene>(fail(problem));
   return read_binary_ply(file, progress.parsing());

@@ -4,20 +4,14 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
-#include <fstream>
-#include <iterator>
 #include <sstream>
 #include <string_view>
 #include <vector>
 
+#include "io/file_bytes.h"
+
 namespace exao {
 namespace {
-
-std::string read_all(const std::string& path, bool& ok) {
-  std::ifstream in(path, std::ios::binary);
-  ok = static_cast<bool>(in);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
 
 bool is_space(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\v' || c == '\f'; }
 
@@ -287,9 +281,8 @@ std::string off_binary_problem(std::string_view data, const OffHeader& h) {
 }  // namespace
 
 std::string ply_problem(const std::string& path) {
-  bool opened = false;
-  const std::string file = read_all(path, opened);
-  if (!opened) return {};  // the reader reports it
+  std::string file;
+  if (!read_file_bytes(path, file)) return {};  // the reader reports it
   return ply_problem_in(file);
 }
 
@@ -370,9 +363,8 @@ std::string ply_problem_in(std::string_view file) {
 }
 
 std::string off_problem(const std::string& path) {
-  bool opened = false;
-  const std::string file = read_all(path, opened);
-  if (!opened) return {};
+  std::string file;
+  if (!read_file_bytes(path, file)) return {};
   OffText in{file};
   in.skip_comments();
   const std::string_view keyword = in.word();

@@ -19,8 +19,8 @@
 //    dot(m, a) < -(sin(theta) + kClusterSlack) |m| for the axis a and half-angle theta, has
 //    dot(m, s_i) < -kClusterSlack l_i |m| for every sample of the cluster, far beyond the float
 //    error of the dot product (~4e-7 |m| |s|): the float plane test fails on each of them.
-// Both are tested by tests/sample_cluster_test.cpp, which also shows that a tighter cull than
-// this (a negative slack) changes bits.
+// Both are tested by tests/triangle_mask_test.cpp (ClusterCullingChangesNoBitAndATighterCullIsCaught),
+// which also shows that a tighter cull than this (a negative slack) changes bits.
 
 // The bits of the clusters in `clusters`, from a lane predicate: lanes(first) gives Lanes::M for
 // samples [first, first + kWidth). Cluster k is bits [16 k, 16 k + 16).

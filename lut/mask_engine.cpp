@@ -7,19 +7,11 @@
 
 namespace exao::lut {
 
-const char* mask_mode_name(MaskMode mode) {
-  switch (mode) {
-    case MaskMode::Lut: return "lut";
-    case MaskMode::Exact: return "exact";
-  }
-  return "?";
-}
+const char* mask_mode_name(MaskMode mode) { return name_of(mode); }
 
 Result<MaskMode> parse_mask_mode(const std::string& name) {
-  for (const MaskMode m : {MaskMode::Lut, MaskMode::Exact}) {
-    if (name == mask_mode_name(m)) return m;
-  }
-  return fail("masks: unknown mask mode '" + name + "' (lut or exact)");
+  if (const std::optional<MaskMode> m = parse_enum<MaskMode>(name)) return *m;
+  return fail("masks: unknown mask mode '" + name + "' (" + name_list<MaskMode>() + ")");
 }
 
 MaskEngine& MaskEngine::operator=(MaskEngine&& o) noexcept {

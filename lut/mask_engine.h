@@ -35,6 +35,7 @@
 
 #include <glm/glm.hpp>
 
+#include "core/enum_names.h"
 #include "core/error.h"
 #include "core/isa.h"
 #include "core/mask.h"
@@ -51,6 +52,10 @@ namespace exao::lut {
 /// Where plane masks come from: the plane table (the paper's way) or the exact test of all N
 /// sample points (the default: faster on every level measured, and exact).
 enum class MaskMode { Lut, Exact };
+
+[[nodiscard]] constexpr auto enum_names(MaskMode) {
+  return std::to_array<EnumName<MaskMode>>({{MaskMode::Lut, "lut"}, {MaskMode::Exact, "exact"}});
+}
 
 [[nodiscard]] const char* mask_mode_name(MaskMode mode);
 /// "lut" or "exact"; the error names the option "masks".

@@ -104,13 +104,7 @@ std::size_t cube(int resolution) {
 
 }  // namespace
 
-const char* table_kind_name(TableKind kind) {
-  switch (kind) {
-    case TableKind::Points: return "points";
-    case TableKind::Directions: return "directions";
-  }
-  return "?";
-}
+const char* table_kind_name(TableKind kind) { return name_of(kind); }
 
 Result<void> check_table_resolution(int resolution) {
   if (resolution < kMinTableResolution || resolution > kMaxTableResolution) {

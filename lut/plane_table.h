@@ -43,6 +43,7 @@
 #include <glm/glm.hpp>
 
 #include "core/check.h"
+#include "core/enum_names.h"
 #include "core/error.h"
 #include "core/mask.h"
 #include "core/sample_pattern.h"
@@ -51,6 +52,10 @@
 namespace exao::lut {
 
 enum class TableKind : std::uint32_t { Points = 0, Directions = 1 };
+
+[[nodiscard]] constexpr auto enum_names(TableKind) {
+  return std::to_array<EnumName<TableKind>>({{TableKind::Points, "points"}, {TableKind::Directions, "directions"}});
+}
 
 [[nodiscard]] const char* table_kind_name(TableKind kind);
 

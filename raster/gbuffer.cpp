@@ -43,29 +43,14 @@ GBuffer rasterize_gbuffer(const Scene& scene, const Camera& camera, int width, i
   const TileBins bins = bin_triangles(grid, scene, projection);
 
   tbb::parallel_for(0, grid.count(), [&](int tile) {
-    int tx0 = 0, ty0 = 0, tx1 = 0, ty1 = 0;
-    grid.rect(tile, tx0, ty0, tx1, ty1);
-    for (std::size_t i = bins.offset[static_cast<std::size_t>(tile)]; i < bins.offset[static_cast<std::size_t>(tile) + 1]; ++i) {
-      const std::uint32_t t = bins.items[i];
-      const DrawTriangle d = prepare_triangle(scene, projection, t);
-      PolygonRaster raster;
-      if (!raster.setup(make_screen_polygon(projection, d.clip))) continue;
-      const int y_end = std::min(ty1, raster.y1());
-      for (int y = std::max(ty0, raster.y0()); y <= y_end; ++y) {
-        const double py = y + 0.5;
-        raster.spans(y, tx0, tx1, [&](int xa, int xb) {
-          for (int x = xa; x <= xb; ++x) {
-            const double inverse_depth = d.a * (x + 0.5) + d.b * py + d.c;
-            const std::size_t p = static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x);
-            // Nearest wins (largest 1/w); items come in increasing index, so a tie keeps the lower.
-            if (inverse_depth > g.inverse_depth[p]) {
-              g.inverse_depth[p] = inverse_depth;
-              g.triangle[p] = t;
-            }
-          }
-        });
+    draw_tile(scene, projection, grid, bins, tile, [&](int x, int y, std::uint32_t t, double inverse_depth) {
+      const std::size_t p = static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x);
+      // Nearest wins (largest 1/w); items come in increasing index, so a tie keeps the lower.
+      if (inverse_depth > g.inverse_depth[p]) {
+        g.inverse_depth[p] = inverse_depth;
+        g.triangle[p] = t;
       }
-    }
+    });
   });
   return g;
 }

@@ -91,12 +91,11 @@ void append_mesh(const Mesh& mesh, bool two_sided, Scene& out) {
 }  // namespace
 
 Result<LodFilter> parse_lod_filter(const std::string& name) {
-  if (name == "envelope") return LodFilter::Envelope;
-  if (name == "distance") return LodFilter::BoundedDistance;
-  return fail("lod_filter: unknown filter '" + name + "' (envelope or distance)");
+  if (const std::optional<LodFilter> f = parse_enum<LodFilter>(name)) return *f;
+  return fail("lod_filter: unknown filter '" + name + "' (" + name_list<LodFilter>() + ")");
 }
 
-const char* lod_filter_name(LodFilter filter) { return filter == LodFilter::Envelope ? "envelope" : "distance"; }
+const char* lod_filter_name(LodFilter filter) { return name_of(filter); }
 
 Result<void> check_lod_options(const LodOptions& options) {
   if (!(options.eps1 > 0.0f) || !std::isfinite(options.eps1)) {
@@ -125,54 +124,65 @@ float auto_lod_eps(float radius, float footprint, int levels, float k) {
   return std::pow(3.0f, std::floor(std::log(wanted) / std::log(3.0f) + 1e-4f));
 }
 
-Result<LodChain> build_lod_chain(const Scene& scene, float eps1, int levels, LodFilter filter,
-                                 const ProgressCallback& progress) {
-  LodOptions check;
-  check.eps1 = eps1;
-  if (auto ok = check_lod_options(check); !ok) return std::unexpected(ok.error());
-  if (levels < 0) return fail("lod_levels: must be at least 0, not " + std::to_string(levels));
-  const auto start = std::chrono::steady_clock::now();
+namespace {
+
+// Exact duplicate vertices of triangles of the same sidedness become one: `corner` gives each of
+// the scene's 3n corners its welded vertex.
+struct Welded {
+  std::vector<std::uint32_t> corner;
+  std::vector<glm::vec3> vertices;
+};
+
+Welded weld_corners(const Scene& scene) {
   const std::size_t n = scene.triangle_count();
-
-  // --- Weld: exact duplicate vertices of triangles of the same sidedness become one. ---
-  std::vector<std::uint32_t> corner(3 * n);
-  std::vector<glm::vec3> welded;
-  {
-    std::unordered_map<PositionKey, std::uint32_t, PositionKeyHash> ids[2];
-    for (std::size_t t = 0; t < n; ++t) {
-      auto& map = ids[scene.two_sided[t] ? 1 : 0];
-      for (int c = 0; c < 3; ++c) {
-        const glm::vec3& v = scene.vertices[3 * t + static_cast<std::size_t>(c)];
-        const auto [it, added] = map.try_emplace(position_key(v), static_cast<std::uint32_t>(welded.size()));
-        if (added) welded.push_back(v);
-        corner[3 * t + static_cast<std::size_t>(c)] = it->second;
-      }
+  Welded w;
+  w.corner.resize(3 * n);
+  std::unordered_map<PositionKey, std::uint32_t, PositionKeyHash> ids[2];
+  for (std::size_t t = 0; t < n; ++t) {
+    auto& map = ids[scene.two_sided[t] ? 1 : 0];
+    for (int c = 0; c < 3; ++c) {
+      const glm::vec3& v = scene.vertices[3 * t + static_cast<std::size_t>(c)];
+      const auto [it, added] = map.try_emplace(position_key(v), static_cast<std::uint32_t>(w.vertices.size()));
+      if (added) w.vertices.push_back(v);
+      w.corner[3 * t + static_cast<std::size_t>(c)] = it->second;
     }
   }
+  return w;
+}
 
-  // --- Components: triangles sharing a welded vertex. ---
+// Components: triangles sharing a welded vertex. `order` lists the triangles component by
+// component (stable within one), `root` names each triangle's component.
+struct ComponentOrder {
+  std::vector<std::uint32_t> order;
+  std::vector<std::uint32_t> root;
+};
+
+ComponentOrder component_order(const Welded& w, std::size_t n) {
   Components uf(n);
-  {
-    std::vector<std::uint32_t> first(welded.size(), UINT32_MAX);
-    for (std::size_t t = 0; t < n; ++t) {
-      for (int c = 0; c < 3; ++c) {
-        std::uint32_t& f = first[corner[3 * t + static_cast<std::size_t>(c)]];
-        if (f == UINT32_MAX) f = static_cast<std::uint32_t>(t);
-        else uf.join(f, static_cast<std::uint32_t>(t));
-      }
+  std::vector<std::uint32_t> first(w.vertices.size(), UINT32_MAX);
+  for (std::size_t t = 0; t < n; ++t) {
+    for (int c = 0; c < 3; ++c) {
+      std::uint32_t& f = first[w.corner[3 * t + static_cast<std::size_t>(c)]];
+      if (f == UINT32_MAX) f = static_cast<std::uint32_t>(t);
+      else uf.join(f, static_cast<std::uint32_t>(t));
     }
   }
-  std::vector<std::uint32_t> order(n);
-  std::iota(order.begin(), order.end(), 0u);
-  std::vector<std::uint32_t> root(n);
-  for (std::size_t t = 0; t < n; ++t) root[t] = uf.find(static_cast<std::uint32_t>(t));
-  std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return root[a] < root[b]; });
+  ComponentOrder out;
+  out.order.resize(n);
+  std::iota(out.order.begin(), out.order.end(), 0u);
+  out.root.resize(n);
+  for (std::size_t t = 0; t < n; ++t) out.root[t] = uf.find(static_cast<std::uint32_t>(t));
+  std::stable_sort(out.order.begin(), out.order.end(),
+                   [&](std::uint32_t a, std::uint32_t b) { return out.root[a] < out.root[b]; });
+  return out;
+}
 
-  // --- Per component: repair, orient, decide; the simplifiable ones into their group. ---
-  LodChain lod;
-  lod.eps1 = eps1;
-  lod.filter = filter;
-  lod.kept.assign(n, 0);
+// Per component: repair, orient, decide; the simplifiable ones into their group (largest first),
+// the others kept at full detail in `lod`.
+std::vector<Group> component_groups(const Scene& scene, const Welded& w, const ComponentOrder& components, LodChain& lod) {
+  const std::size_t n = scene.triangle_count();
+  const std::vector<std::uint32_t>& order = components.order;
+  const std::vector<std::uint32_t>& root = components.root;
   std::vector<std::uint8_t>& kept = lod.kept;
   std::vector<Group> groups;
   std::unordered_map<std::uint32_t, std::size_t> local;
@@ -187,9 +197,9 @@ Result<LodChain> build_lod_chain(const Scene& scene, float eps1, int levels, Lod
     for (std::size_t i = begin; i < end; ++i) {
       Polygon polygon;
       for (int c = 0; c < 3; ++c) {
-        const std::uint32_t id = corner[3 * std::size_t{order[i]} + static_cast<std::size_t>(c)];
+        const std::uint32_t id = w.corner[3 * std::size_t{order[i]} + static_cast<std::size_t>(c)];
         const auto [it, added] = local.try_emplace(id, points.size());
-        if (added) points.emplace_back(welded[id].x, welded[id].y, welded[id].z);
+        if (added) points.emplace_back(w.vertices[id].x, w.vertices[id].y, w.vertices[id].z);
         polygon[static_cast<std::size_t>(c)] = it->second;
       }
       polygons.push_back(polygon);
@@ -216,6 +226,11 @@ Result<LodChain> build_lod_chain(const Scene& scene, float eps1, int levels, Lod
   }
   std::stable_sort(groups.begin(), groups.end(),
                    [](const Group& a, const Group& b) { return a.mesh.number_of_faces() > b.mesh.number_of_faces(); });
+  return groups;
+}
+
+// The lines that tell the user which components were split or kept.
+void add_component_notes(LodChain& lod) {
   if (lod.split_components > 0) {
     lod.notes.push_back(std::to_string(lod.split_components) + " of " + std::to_string(lod.components) +
                         " two-sided components had non-manifold vertices or edges: split by orient_polygon_soup, "
@@ -227,8 +242,11 @@ Result<LodChain> build_lod_chain(const Scene& scene, float eps1, int levels, Lod
                         " triangles) are not manifold surfaces after welding and orienting (one-sided ones are never "
                         "re-oriented): kept at full detail");
   }
+}
 
-  // --- Levels 1..L, each from the one before. ---
+// Levels 1..L, each simplified from the one before.
+void simplify_levels(std::vector<Group>& groups, float eps1, int levels, LodFilter filter, const ProgressCallback& progress,
+                     LodChain& lod) {
   ProgressCounter counter(progress, static_cast<std::size_t>(levels));
   double previous = 0.0;
   for (int i = 1; i <= levels; ++i) {
@@ -244,6 +262,26 @@ Result<LodChain> build_lod_chain(const Scene& scene, float eps1, int levels, Lod
     lod.level_seconds.push_back(elapsed(level_start));
     counter.add(1);
   }
+}
+
+}  // namespace
+
+Result<LodChain> build_lod_chain(const Scene& scene, float eps1, int levels, LodFilter filter,
+                                 const ProgressCallback& progress) {
+  LodOptions check;
+  check.eps1 = eps1;
+  if (auto ok = check_lod_options(check); !ok) return std::unexpected(ok.error());
+  if (levels < 0) return fail("lod_levels: must be at least 0, not " + std::to_string(levels));
+  const auto start = std::chrono::steady_clock::now();
+  const Welded welded = weld_corners(scene);
+  const ComponentOrder components = component_order(welded, scene.triangle_count());
+  LodChain lod;
+  lod.eps1 = eps1;
+  lod.filter = filter;
+  lod.kept.assign(scene.triangle_count(), 0);
+  std::vector<Group> groups = component_groups(scene, welded, components, lod);
+  add_component_notes(lod);
+  simplify_levels(groups, eps1, levels, filter, progress, lod);
   lod.seconds = elapsed(start);
   return lod;
 }

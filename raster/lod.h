@@ -39,6 +39,7 @@
 
 #include <glm/glm.hpp>
 
+#include "core/enum_names.h"
 #include "core/error.h"
 #include "core/progress.h"
 #include "core/scene.h"
@@ -48,6 +49,10 @@
 namespace exao::raster {
 
 enum class LodFilter { Envelope, BoundedDistance };
+
+[[nodiscard]] constexpr auto enum_names(LodFilter) {
+  return std::to_array<EnumName<LodFilter>>({{LodFilter::Envelope, "envelope"}, {LodFilter::BoundedDistance, "distance"}});
+}
 
 /// "envelope" or "distance"; the error names the option lod_filter.
 [[nodiscard]] Result<LodFilter> parse_lod_filter(const std::string& name);

@@ -38,26 +38,7 @@ bool needs_fragments(Method m) {
 
 }  // namespace
 
-const char* method_name(Method method) {
-  switch (method) {
-    case Method::Hbao: return "hbao";
-    case Method::HbaoPlus: return "hbao+";
-    case Method::Vao: return "vao";
-    case Method::SdHbao: return "sdao";
-    case Method::SdSvao: return "svao";
-    case Method::RtSvao: return "rtsvao";
-    case Method::Abuffer: return "abuffer";
-    case Method::StereoHbaoPlus: return "shbao+";
-    case Method::StereoHbaoPlus2d: return "shbao+2d";
-    case Method::SdHbaoPlus: return "sdao+";
-    case Method::MvSdHbaoPlus: return "mvsdao+";
-    case Method::RtSvaoRays: return "rtsvao-rays";
-    case Method::AbufferM4: return "abuffer-m4";
-    case Method::AbufferM8: return "abuffer-m8";
-    case Method::AbufferOit: return "abuffer-oit";
-  }
-  return "?";
-}
+const char* compare_method_name(Method method) { return name_of(method); }
 
 const char* method_label(Method method) {
   switch (method) {
@@ -81,16 +62,11 @@ const char* method_label(Method method) {
 }
 
 std::vector<Method> all_methods() {
-  return {Method::Hbao,      Method::HbaoPlus,       Method::Vao,          Method::SdHbao,       Method::SdSvao,
-          Method::RtSvao,    Method::Abuffer,        Method::StereoHbaoPlus, Method::StereoHbaoPlus2d, Method::SdHbaoPlus,
-          Method::MvSdHbaoPlus, Method::RtSvaoRays,  Method::AbufferM4,    Method::AbufferM8,    Method::AbufferOit};
+  constexpr auto methods = all_values<Method>();
+  return {methods.begin(), methods.end()};
 }
 
-std::string all_method_names() {
-  std::string out;
-  for (const Method m : all_methods()) out += (out.empty() ? "" : ", ") + std::string(method_name(m));
-  return out;
-}
+std::string all_compare_method_names() { return name_list<Method>(", "); }
 
 bool is_stereo(Method method) { return method == Method::StereoHbaoPlus || method == Method::StereoHbaoPlus2d; }
 
@@ -103,21 +79,21 @@ Result<std::vector<Method>> parse_methods(const std::string& list) {
   while (std::getline(in, name, ',')) {
     if (name == "all") {
       for (const Method m : all_methods()) {
-        if (std::find(out.begin(), out.end(), m) != out.end()) return fail("methods: '" + std::string(method_name(m)) + "' is listed twice");
+        if (std::find(out.begin(), out.end(), m) != out.end()) return fail("methods: '" + std::string(compare_method_name(m)) + "' is listed twice");
         out.push_back(m);
       }
       continue;
     }
     bool found = false;
     for (const Method m : all_methods()) {
-      if (name != method_name(m)) continue;
+      if (name != compare_method_name(m)) continue;
       if (std::find(out.begin(), out.end(), m) != out.end()) return fail("methods: '" + name + "' is listed twice");
       out.push_back(m);
       found = true;
     }
-    if (!found) return fail("methods: unknown method '" + name + "' (all, " + all_method_names() + ")");
+    if (!found) return fail("methods: unknown method '" + name + "' (all, " + all_compare_method_names() + ")");
   }
-  if (out.empty()) return fail("methods: the list is empty (all, " + all_method_names() + ")");
+  if (out.empty()) return fail("methods: the list is empty (all, " + all_compare_method_names() + ")");
   return out;
 }
 
@@ -138,6 +114,163 @@ Result<void> check(const CompareOptions& options) {
   }
   return {};
 }
+
+namespace {
+
+// What every method of one view draws from: the view, its scene and options, the A-buffer when
+// a method needs it, the other eye for the stereo rows, and the exact AO and column rays.
+struct MethodInputs {
+  const Scene& scene;
+  const View& view;
+  const CompareOptions& options;
+  const FragmentBuffer* fragments;  // when a method needs it
+  const View* other_eye;            // the stereo rows: the other eye's G-buffer
+  bool this_is_left = true;
+  const ExactAo& exact;
+  const SegmentHits& hits;
+  int width = 0;
+  int height = 0;
+};
+
+// Stereo HBAO+'s raw pair: computed once, for both stereo rows, and charged to each.
+struct StereoCache {
+  std::optional<StereoObscurance> raw;
+  double seconds = 0.0;
+};
+
+// Stereo HBAO+'s other eye: the given pair's other camera, or stereo_ipd to the right; nullopt
+// when no stereo row runs. `this_is_left` says which of the pair `camera` is.
+std::optional<Camera> other_eye_camera(const Camera& camera, const CompareOptions& options, bool& this_is_left) {
+  this_is_left = true;
+  if (std::none_of(options.methods.begin(), options.methods.end(), is_stereo)) return std::nullopt;
+  if (options.stereo_eyes) {
+    this_is_left = camera.eye == options.stereo_eyes->first.eye;
+    return this_is_left ? options.stereo_eyes->second : options.stereo_eyes->first;
+  }
+  Camera other = camera;
+  other.eye = camera.eye + static_cast<float>(options.stereo_ipd) * glm::normalize(glm::cross(camera.forward, camera.up));
+  other.name = camera.name + "-right";
+  return other;
+}
+
+// RT-SVAO: VAO's phase 1, then the exact AO of the flagged pixels.
+void rt_svao_row(const MethodInputs& in, MethodResult& out) {
+  const View& view = in.view;
+  const VaoResult phase1 = vao(view, in.options.settings, in.options.vao);
+  const std::vector<std::uint32_t> pixels = flagged_pixels(phase1);
+  // The view's receivers are in pixel order: find each flagged pixel's.
+  std::vector<Receiver> flagged;
+  flagged.reserve(pixels.size());
+  std::size_t next = 0;
+  for (const std::uint32_t p : pixels) {
+    while (view.receivers.pixel[next] != p) ++next;
+    flagged.push_back(view.receivers.receivers[next]);
+  }
+  out.ao = rt_svao(phase1, in.exact(flagged));
+  out.flagged = pixels.size();
+}
+
+// Stereo HBAO+ (separable or full filter): this eye's AO of the pair; returns the seconds of
+// both eyes' passes, the raw pair's and this row's filter.
+double stereo_row(const MethodInputs& in, Method m, StereoCache& cache, MethodResult& out) {
+  const Settings& s = in.options.settings;
+  const View& left = in.this_is_left ? in.view : *in.other_eye;
+  const View& right = in.this_is_left ? *in.other_eye : in.view;
+  if (!cache.raw) {
+    const auto raw_start = Clock::now();
+    cache.raw = stereo_hbao_plus(left, right, s, in.options.hbao_plus);
+    cache.seconds = since(raw_start);
+  }
+  std::vector<float> left_ao = cache.raw->left, right_ao = cache.raw->right;
+  const auto filter_start = Clock::now();
+  StereoFilterOptions filter;
+  filter.radius = s.blur_radius;
+  filter.form = m == Method::StereoHbaoPlus ? StereoFilterForm::Separable : StereoFilterForm::Full;
+  stereo_filter(left, right, left_ao, right_ao, filter);
+  const double seconds = cache.seconds + since(filter_start);
+  out.ao = in.this_is_left ? std::move(left_ao) : std::move(right_ao);
+  out.holes = cache.raw->holes;
+  out.reprojected = cache.raw->reprojected;
+  return seconds;
+}
+
+// MV-SD-HBAO+: the view's stochastic map with a secondary view's; returns the seconds of the
+// secondary view's A-buffer (a geometry pass of this method's own).
+double multiview_row(const MethodInputs& in, std::optional<Camera>& secondary, MethodResult& out) {
+  const CompareOptions& options = in.options;
+  const StochasticDepth map = make_stochastic_depth(*in.fragments, options.stochastic);
+  const Camera second = secondary_camera(in.view, options.multiview);
+  secondary = second;
+  const auto map_start = Clock::now();
+  const FragmentBuffer second_fragments = rasterize_fragments(in.scene, second, in.width, in.height);
+  const double seconds = since(map_start);
+  const StochasticDepth second_map = make_stochastic_depth(second_fragments, options.stochastic);
+  out.ao = multiview_sd_hbao_plus(in.view, map, {DepthCamera{view_basis(second, in.width, in.height), &second_map}},
+                                  options.settings, options.hbao_plus);
+  return seconds;
+}
+
+// One method's AO (before the blur) and counts into `out`; returns the seconds of the geometry
+// passes or both eyes' passes it is charged apart (0 for most).
+double method_ao(Method m, const MethodInputs& in, StereoCache& stereo, std::optional<Camera>& secondary, MethodResult& out) {
+  const View& view = in.view;
+  const CompareOptions& options = in.options;
+  const Settings& s = options.settings;
+  switch (m) {
+    case Method::Hbao: out.ao = hbao(view, s, options.hbao); break;
+    case Method::HbaoPlus: out.ao = hbao_plus(view, s, options.hbao_plus); break;
+    case Method::Vao: out.ao = vao(view, s, options.vao).ao; break;
+    case Method::SdHbao: {
+      const StochasticDepth map = make_stochastic_depth(*in.fragments, options.stochastic);
+      out.ao = sd_hbao(view, map, s, options.hbao);
+      break;
+    }
+    case Method::SdSvao: {
+      const VaoResult phase1 = vao(view, s, options.vao);
+      const StochasticDepth map = make_stochastic_depth(*in.fragments, options.stochastic, phase1.stencil);
+      out.ao = sd_svao(view, phase1, map, s, options.vao);
+      out.flagged = flagged_pixels(phase1).size();
+      break;
+    }
+    case Method::RtSvao: rt_svao_row(in, out); break;
+    case Method::Abuffer:
+      out.ao = abuffer_ao(view, *in.fragments, in.scene, s, options.hbao);
+      out.fragments = in.fragments->fragments.size();
+      break;
+    case Method::StereoHbaoPlus:
+    case Method::StereoHbaoPlus2d: return stereo_row(in, m, stereo, out);
+    case Method::SdHbaoPlus: {
+      const StochasticDepth map = make_stochastic_depth(*in.fragments, options.stochastic);
+      out.ao = sd_hbao_plus(view, map, s, options.hbao_plus);
+      break;
+    }
+    case Method::MvSdHbaoPlus: return multiview_row(in, secondary, out);
+    case Method::RtSvaoRays: {
+      assert(in.hits && "compare_view: rtsvao-rays needs the segment hits");
+      const VaoResult phase1 = vao(view, s, options.vao);
+      out.ao = rt_svao_columns(view, phase1, s, options.vao, in.hits);
+      out.flagged = flagged_pixels(phase1).size();
+      break;
+    }
+    case Method::AbufferM4:
+    case Method::AbufferM8: {
+      ListCompression compression;
+      compression.nodes = list_nodes(m);
+      compression.keep_front_half = options.keep_front_half;
+      const FragmentBuffer compressed = compress_fragments(*in.fragments, view, in.scene, compression);
+      out.ao = abuffer_ao(view, compressed, in.scene, s, options.hbao);
+      out.fragments = compressed.fragments.size();
+      break;
+    }
+    case Method::AbufferOit:
+      out.ao = abuffer_oit_ao(view, *in.fragments, in.scene, s, options.hbao);
+      out.fragments = in.fragments->fragments.size();
+      break;
+  }
+  return 0.0;
+}
+
+}  // namespace
 
 ViewResult compare_view(const Scene& scene, const Camera& camera, int width, int height, const CompareOptions& options,
                         const ExactAo& exact, const SegmentHits& hits) {
@@ -168,118 +301,21 @@ ViewResult compare_view(const Scene& scene, const Camera& camera, int width, int
   // Stereo HBAO+'s pair: this view and the other eye's G-buffer, left first.
   std::optional<View> other_eye;
   bool this_is_left = true;
-  if (std::any_of(options.methods.begin(), options.methods.end(), is_stereo)) {
-    Camera other;
-    if (options.stereo_eyes) {
-      this_is_left = camera.eye == options.stereo_eyes->first.eye;
-      other = this_is_left ? options.stereo_eyes->second : options.stereo_eyes->first;
-    } else {
-      other = camera;
-      other.eye = camera.eye + static_cast<float>(options.stereo_ipd) * glm::normalize(glm::cross(camera.forward, camera.up));
-      other.name = camera.name + "-right";
-    }
+  if (const std::optional<Camera> other = other_eye_camera(camera, options, this_is_left)) {
     start = Clock::now();
-    other_eye = make_view(scene, other, width, height);
+    other_eye = make_view(scene, *other, width, height);
     r.other_eye_seconds = since(start);
   }
-  // Computed once, for both stereo rows, and charged to each.
-  std::optional<StereoObscurance> stereo_raw;
-  double stereo_raw_seconds = 0.0;
+  const MethodInputs inputs{scene, view, options, fragments ? &*fragments : nullptr, other_eye ? &*other_eye : nullptr,
+                            this_is_left, exact, hits, width, height};
+  StereoCache stereo;
 
   const Settings& s = options.settings;
   for (const Method m : options.methods) {
     MethodResult out{m, {}, 0.0, 0.0, 0, 0, 0, 0};
-    double extra_map_seconds = 0.0;  // geometry passes of this method's own (the secondary view's A-buffer)
     start = Clock::now();
-    switch (m) {
-      case Method::Hbao: out.ao = hbao(view, s, options.hbao); break;
-      case Method::HbaoPlus: out.ao = hbao_plus(view, s, options.hbao_plus); break;
-      case Method::Vao: out.ao = vao(view, s, options.vao).ao; break;
-      case Method::SdHbao: {
-        const StochasticDepth map = make_stochastic_depth(*fragments, options.stochastic);
-        out.ao = sd_hbao(view, map, s, options.hbao);
-        break;
-      }
-      case Method::SdSvao: {
-        const VaoResult phase1 = vao(view, s, options.vao);
-        const StochasticDepth map = make_stochastic_depth(*fragments, options.stochastic, phase1.stencil);
-        out.ao = sd_svao(view, phase1, map, s, options.vao);
-        out.flagged = flagged_pixels(phase1).size();
-        break;
-      }
-      case Method::RtSvao: {
-        const VaoResult phase1 = vao(view, s, options.vao);
-        const std::vector<std::uint32_t> pixels = flagged_pixels(phase1);
-        // The view's receivers are in pixel order: find each flagged pixel's.
-        std::vector<Receiver> flagged;
-        flagged.reserve(pixels.size());
-        std::size_t next = 0;
-        for (const std::uint32_t p : pixels) {
-          while (view.receivers.pixel[next] != p) ++next;
-          flagged.push_back(view.receivers.receivers[next]);
-        }
-        out.ao = rt_svao(phase1, exact(flagged));
-        out.flagged = pixels.size();
-        break;
-      }
-      case Method::Abuffer: out.ao = abuffer_ao(view, *fragments, scene, s, options.hbao); out.fragments = fragments->fragments.size(); break;
-      case Method::StereoHbaoPlus:
-      case Method::StereoHbaoPlus2d: {
-        const View& left = this_is_left ? view : *other_eye;
-        const View& right = this_is_left ? *other_eye : view;
-        if (!stereo_raw) {
-          const auto raw_start = Clock::now();
-          stereo_raw = stereo_hbao_plus(left, right, s, options.hbao_plus);
-          stereo_raw_seconds = since(raw_start);
-        }
-        std::vector<float> left_ao = stereo_raw->left, right_ao = stereo_raw->right;
-        const auto filter_start = Clock::now();
-        StereoFilterOptions filter;
-        filter.radius = s.blur_radius;
-        filter.form = m == Method::StereoHbaoPlus ? StereoFilterForm::Separable : StereoFilterForm::Full;
-        stereo_filter(left, right, left_ao, right_ao, filter);
-        // Both eyes' passes: the raw pair (computed once for both rows) and this row's filter.
-        extra_map_seconds = stereo_raw_seconds + since(filter_start);
-        out.ao = this_is_left ? std::move(left_ao) : std::move(right_ao);
-        out.holes = stereo_raw->holes;
-        out.reprojected = stereo_raw->reprojected;
-        break;
-      }
-      case Method::SdHbaoPlus: {
-        const StochasticDepth map = make_stochastic_depth(*fragments, options.stochastic);
-        out.ao = sd_hbao_plus(view, map, s, options.hbao_plus);
-        break;
-      }
-      case Method::MvSdHbaoPlus: {
-        const StochasticDepth map = make_stochastic_depth(*fragments, options.stochastic);
-        const Camera second = secondary_camera(view, options.multiview);
-        r.secondary = second;
-        const auto map_start = Clock::now();
-        const FragmentBuffer second_fragments = rasterize_fragments(scene, second, width, height);
-        extra_map_seconds = since(map_start);
-        const StochasticDepth second_map = make_stochastic_depth(second_fragments, options.stochastic);
-        out.ao = multiview_sd_hbao_plus(view, map, {DepthCamera{view_basis(second, width, height), &second_map}}, s, options.hbao_plus);
-        break;
-      }
-      case Method::RtSvaoRays: {
-        assert(hits && "compare_view: rtsvao-rays needs the segment hits");
-        const VaoResult phase1 = vao(view, s, options.vao);
-        out.ao = rt_svao_columns(view, phase1, s, options.vao, hits);
-        out.flagged = flagged_pixels(phase1).size();
-        break;
-      }
-      case Method::AbufferM4:
-      case Method::AbufferM8: {
-        ListCompression compression;
-        compression.nodes = list_nodes(m);
-        compression.keep_front_half = options.keep_front_half;
-        const FragmentBuffer compressed = compress_fragments(*fragments, view, scene, compression);
-        out.ao = abuffer_ao(view, compressed, scene, s, options.hbao);
-        out.fragments = compressed.fragments.size();
-        break;
-      }
-      case Method::AbufferOit: out.ao = abuffer_oit_ao(view, *fragments, scene, s, options.hbao); out.fragments = fragments->fragments.size(); break;
-    }
+    // Geometry passes of this method's own (the secondary view's A-buffer), or both eyes' passes.
+    const double extra_map_seconds = method_ao(m, inputs, stereo, r.secondary, out);
     if (!is_stereo(m)) bilateral_blur(view, s.radius, s.blur_radius, out.ao);  // the stereo rows have their own filter
     for (float& v : out.ao) v = std::clamp(v, 0.0f, 1.0f);  // VAO's estimator exceeds 1 before the blur
     // The papers time a stochastic map with its geometry pass (seed 000 Table 2, seed 001

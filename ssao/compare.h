@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "core/enum_names.h"
 #include "core/error.h"
 #include "core/receiver_frame.h"
 #include "core/scene.h"
@@ -36,15 +37,34 @@ enum class Method {
   AbufferOit,        // seed 004 Sec. III Eq. 2-4: transparent receivers, blended
 };
 
-/// "hbao", "hbao+", "vao", "sdao", "svao", "rtsvao", "abuffer", "shbao+", "shbao+2d", "sdao+",
-/// "mvsdao+", "rtsvao-rays", "abuffer-m4", "abuffer-m8", "abuffer-oit".
-[[nodiscard]] const char* method_name(Method method);
+[[nodiscard]] constexpr auto enum_names(Method) {
+  return std::to_array<EnumName<Method>>({{Method::Hbao, "hbao"},
+                                          {Method::HbaoPlus, "hbao+"},
+                                          {Method::Vao, "vao"},
+                                          {Method::SdHbao, "sdao"},
+                                          {Method::SdSvao, "svao"},
+                                          {Method::RtSvao, "rtsvao"},
+                                          {Method::Abuffer, "abuffer"},
+                                          {Method::StereoHbaoPlus, "shbao+"},
+                                          {Method::StereoHbaoPlus2d, "shbao+2d"},
+                                          {Method::SdHbaoPlus, "sdao+"},
+                                          {Method::MvSdHbaoPlus, "mvsdao+"},
+                                          {Method::RtSvaoRays, "rtsvao-rays"},
+                                          {Method::AbufferM4, "abuffer-m4"},
+                                          {Method::AbufferM8, "abuffer-m8"},
+                                          {Method::AbufferOit, "abuffer-oit"}});
+}
+
+/// The name of a method of `exao compare` (not engine::method_name's AO backends): "hbao",
+/// "hbao+", "vao", "sdao", "svao", "rtsvao", "abuffer", "shbao+", "shbao+2d", "sdao+", "mvsdao+",
+/// "rtsvao-rays", "abuffer-m4", "abuffer-m8", "abuffer-oit".
+[[nodiscard]] const char* compare_method_name(Method method);
 /// "HBAO", "HBAO+", "VAO", "SD-HBAO", "SD-SVAO", "RT-SVAO", "A-BUFFER", "S-HBAO+", "S-HBAO+ 2D",
 /// "SD-HBAO+", "MV-SD-HBAO+", "RT-SVAO RAYS", "A-BUFFER M=4", "A-BUFFER M=8", "A-BUFFER OIT".
 [[nodiscard]] const char* method_label(Method method);
 [[nodiscard]] std::vector<Method> all_methods();
 /// The names of all_methods(), comma-separated.
-[[nodiscard]] std::string all_method_names();
+[[nodiscard]] std::string all_compare_method_names();
 /// A comma-separated list of names, each at most once, at least one; "all" is every method.
 [[nodiscard]] Result<std::vector<Method>> parse_methods(const std::string& list);
 /// Whether the method's passes include the stereo filter instead of the mono blur.

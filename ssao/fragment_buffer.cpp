@@ -37,27 +37,12 @@ FragmentBuffer rasterize_fragments(const Scene& scene, const Camera& camera, int
   // Each tile owns its pixels: its fragments are gathered, then sorted by pixel and depth.
   std::vector<std::vector<TileFragment>> tiles(static_cast<std::size_t>(grid.count()));
   tbb::parallel_for(0, grid.count(), [&](int tile) {
-    int tx0 = 0, ty0 = 0, tx1 = 0, ty1 = 0;
-    grid.rect(tile, tx0, ty0, tx1, ty1);
     std::vector<TileFragment>& mine = tiles[static_cast<std::size_t>(tile)];
-    for (std::size_t i = bins.offset[static_cast<std::size_t>(tile)]; i < bins.offset[static_cast<std::size_t>(tile) + 1]; ++i) {
-      const std::uint32_t t = bins.items[i];
-      const raster::DrawTriangle d = raster::prepare_triangle(scene, projection, t);
-      raster::PolygonRaster raster;
-      if (!raster.setup(raster::make_screen_polygon(projection, d.clip))) continue;
-      const int y_end = std::min(ty1, raster.y1());
-      for (int y = std::max(ty0, raster.y0()); y <= y_end; ++y) {
-        const double py = y + 0.5;
-        raster.spans(y, tx0, tx1, [&](int xa, int xb) {
-          for (int x = xa; x <= xb; ++x) {
-            const double inverse_depth = d.a * (x + 0.5) + d.b * py + d.c;
-            if (!(inverse_depth > 0.0)) continue;
-            const auto p = static_cast<std::uint32_t>(y * width + x);
-            mine.push_back({p, {static_cast<float>(1.0 / inverse_depth), t}});
-          }
-        });
-      }
-    }
+    raster::draw_tile(scene, projection, grid, bins, tile, [&](int x, int y, std::uint32_t t, double inverse_depth) {
+      if (!(inverse_depth > 0.0)) return;
+      const auto p = static_cast<std::uint32_t>(y * width + x);
+      mine.push_back({p, {static_cast<float>(1.0 / inverse_depth), t}});
+    });
     std::sort(mine.begin(), mine.end(), [](const TileFragment& a, const TileFragment& b) {
       if (a.pixel != b.pixel) return a.pixel < b.pixel;
       if (a.fragment.depth != b.fragment.depth) return a.fragment.depth < b.fragment.depth;

@@ -6,7 +6,6 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <array>
 #include <atomic>
 #include <bit>
 #include <limits>
@@ -20,7 +19,6 @@
 #include <string>
 #include <thread>
 #include <vector>
-#include <sys/wait.h>
 
 #include "exao/exao.hpp"
 #include "tests/test_support.h"
@@ -57,19 +55,8 @@ std::vector<Receiver> surface_receivers(const SceneData& scene, std::size_t coun
   return out;
 }
 
-struct CommandResult {
-  int status;
-  std::string output;
-};
-
-CommandResult run(const std::string& command) {
-  FILE* pipe = ::popen((command + " 2>&1").c_str(), "r");
-  std::string output;
-  std::array<char, 4096> buffer{};
-  while (pipe && std::fgets(buffer.data(), buffer.size(), pipe)) output += buffer.data();
-  const int status = pipe ? ::pclose(pipe) : -1;
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
-}
+using test::CommandResult;
+using test::run_command;
 
 // AO of `receivers` by `exao query <scene> <arguments>`, read back from its output file.
 std::vector<float> exao_query(const std::string& scene, const std::vector<Receiver>& receivers, const std::string& arguments) {
@@ -83,7 +70,7 @@ std::vector<float> exao_query(const std::string& scene, const std::vector<Receiv
       points << line;
     }
   }
-  const CommandResult result = run(std::string(EXAO_BINARY) + " query " + scene + " --points " + (dir / "points.txt").string() +
+  const CommandResult result = run_command(std::string(EXAO_BINARY) + " query " + scene + " --points " + (dir / "points.txt").string() +
                                    " -o " + (dir / "ao.txt").string() + " " + arguments);
   EXPECT_EQ(result.status, 0) << result.output;
   std::vector<float> ao;

@@ -17,8 +17,6 @@
 #include <set>
 #include <unordered_map>
 
-#include <sys/wait.h>
-
 #include "bake/bake.h"
 #include "bake/document.h"
 #include "bake/document_impl.h"
@@ -36,19 +34,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct CommandResult {
-  int status;
-  std::string output;  // stdout and stderr together
-};
-
-CommandResult run(const std::string& command) {
-  FILE* pipe = ::popen((command + " 2>&1").c_str(), "r");
-  std::string output;
-  std::array<char, 4096> buffer{};
-  while (pipe && std::fgets(buffer.data(), buffer.size(), pipe)) output += buffer.data();
-  const int status = pipe ? ::pclose(pipe) : -1;
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
-}
+using test::CommandResult;
+using test::run_command;
 
 std::string quote(const fs::path& p) {
   std::string out = "'";
@@ -57,13 +44,13 @@ std::string quote(const fs::path& p) {
   return out;
 }
 
-CommandResult exao(const std::string& arguments) { return run(std::string(EXAO_BINARY) + " " + arguments); }
+CommandResult exao(const std::string& arguments) { return run_command(std::string(EXAO_BINARY) + " " + arguments); }
 
-bool have(const std::string& tool) { return run("command -v " + tool).status == 0; }
+bool have(const std::string& tool) { return run_command("command -v " + tool).status == 0; }
 
 // The Khronos validator (scripts/install-test-tools.sh), or why it cannot run.
 std::string validator_missing() {
-  if (run("node --version").status != 0) return "node is not installed: the glTF validator cannot run";
+  if (run_command("node --version").status != 0) return "node is not installed: the glTF validator cannot run";
   if (!fs::exists(fs::path(EXAO_TEST_TOOLS) / "node_modules" / "gltf-validator")) {
     return std::string("the glTF validator is not installed: run scripts/install-test-tools.sh ") + EXAO_BUILD_DIR;
   }
@@ -87,7 +74,7 @@ std::string missing_images(const fs::path& input) {
 
 CommandResult validate(const fs::path& file, const fs::path& input = {}) {
   const std::string missing = input.empty() ? "" : missing_images(input);
-  return run("node " + quote(EXAO_VALIDATE_SCRIPT) + " --modules " + quote(EXAO_TEST_TOOLS) +
+  return run_command("node " + quote(EXAO_VALIDATE_SCRIPT) + " --modules " + quote(EXAO_TEST_TOOLS) +
              (missing.empty() ? "" : " --missing-ok '" + missing + "'") + " " + quote(file));
 }
 
@@ -426,7 +413,7 @@ TEST_F(Compressed, DracoAndMeshoptLoadTheSameTrianglesAsTheirSource) {
     if (source.empty()) continue;
     const fs::path out = dir / c.output;
     const std::string command = c.tool + " " + c.options + " -i " + quote(source) + " -o " + quote(out);
-    const CommandResult made = run(command);
+    const CommandResult made = run_command(command);
     ASSERT_EQ(made.status, 0) << command << "\n" << made.output;
     std::ifstream in(out, std::ios::binary);
     const std::string bytes((std::istreambuf_iterator<char>(in)), {});
@@ -448,7 +435,7 @@ TEST_F(Compressed, DracoAndMeshoptLoadTheSameTrianglesAsTheirSource) {
   // KHR_meshopt_compression (the ratified successor) reads the same streams: gltfpack 0.18 only
   // writes EXT_, so the extension is renamed in a .gltf it wrote.
   const fs::path box = test::real_scene("Box/glTF-Binary/Box.glb");
-  ASSERT_EQ(run("gltfpack -c -noq -i " + quote(box) + " -o " + quote(dir / "box-ext.gltf")).status, 0);
+  ASSERT_EQ(run_command("gltfpack -c -noq -i " + quote(box) + " -o " + quote(dir / "box-ext.gltf")).status, 0);
   std::ifstream in(dir / "box-ext.gltf");
   std::string json((std::istreambuf_iterator<char>(in)), {});
   for (std::size_t at = json.find("EXT_meshopt_compression"); at != std::string::npos; at = json.find("EXT_meshopt_compression")) {
@@ -469,7 +456,7 @@ TEST_F(Compressed, EveryCommandReadsThemAndABakeWritesThemPlain) {
   for (const auto& [tool, options, name] :
        std::vector<std::array<std::string, 3>>{{"draco_transcoder", "", "duck-draco.glb"}, {"gltfpack", "-c", "duck-meshopt.glb"}}) {
     const fs::path packed = dir / name;
-    ASSERT_EQ(run(tool + " " + options + " -i " + quote(source) + " -o " + quote(packed)).status, 0);
+    ASSERT_EQ(run_command(tool + " " + options + " -i " + quote(source) + " -o " + quote(packed)).status, 0);
     const CommandResult info = exao("info " + quote(packed));
     EXPECT_EQ(info.status, 0) << info.output;
     EXPECT_NE(info.output.find("4212"), std::string::npos) << info.output;  // Duck's triangles

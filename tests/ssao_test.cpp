@@ -108,7 +108,7 @@ TEST(Ssao, OpenFloorIsOpenForEveryMethod) {
     // A plane below the bias holds no horizon and no HBAO+ sample above it.
     for (const Method m : {Method::Hbao, Method::HbaoPlus, Method::SdHbao, Method::Abuffer, Method::StereoHbaoPlus, Method::StereoHbaoPlus2d,
                            Method::SdHbaoPlus, Method::MvSdHbaoPlus, Method::AbufferM4, Method::AbufferM8, Method::AbufferOit}) {
-      EXPECT_EQ(result(r, m).ao[p], 1.0f) << method_name(m);
+      EXPECT_EQ(result(r, m).ao[p], 1.0f) << compare_method_name(m);
     }
     for (const MethodResult& m : r.methods) {
       EXPECT_GE(m.ao[p], 0.0f);
@@ -123,7 +123,7 @@ TEST(Ssao, OpenFloorIsOpenForEveryMethod) {
     for (std::size_t p = 0; p < r.view.pixel_count(); ++p) {
       if (r.view.valid[p]) all.push_back(static_cast<std::uint32_t>(p));
     }
-    EXPECT_NEAR(mean_over(result(r, m).ao, all), 1.0, 0.02) << method_name(m);
+    EXPECT_NEAR(mean_over(result(r, m).ao, all), 1.0, 0.02) << compare_method_name(m);
   }
 }
 
@@ -295,9 +295,9 @@ TEST(Ssao, TimesIncludeTheMapsGeometryPass) {
     if (m.method == Method::MvSdHbaoPlus) {
       EXPECT_GT(m.map_seconds, r.fragment_seconds);  // and the secondary view's A-buffer
     } else {
-      EXPECT_EQ(m.map_seconds, map ? r.fragment_seconds : 0.0) << method_name(m.method);
+      EXPECT_EQ(m.map_seconds, map ? r.fragment_seconds : 0.0) << compare_method_name(m.method);
     }
-    EXPECT_GE(m.seconds, m.map_seconds) << method_name(m.method);
+    EXPECT_GE(m.seconds, m.map_seconds) << compare_method_name(m.method);
   }
 }
 
@@ -344,10 +344,10 @@ TEST(Ssao, FootOfAWallIsHalfOccludedAndFarFloorIsOpen) {
   EXPECT_NEAR(mean_over(r.exact, foot), 0.5, 0.04);
   for (const MethodResult& m : r.methods) {
     // Sees the wall, but no method can block more than the wall's half of the hemisphere by much.
-    EXPECT_LT(mean_over(m.ao, foot), 0.8) << method_name(m.method);
-    EXPECT_GT(mean_over(m.ao, foot), 0.3) << method_name(m.method);
+    EXPECT_LT(mean_over(m.ao, foot), 0.8) << compare_method_name(m.method);
+    EXPECT_GT(mean_over(m.ao, foot), 0.3) << compare_method_name(m.method);
     if (m.method != Method::Vao && m.method != Method::SdSvao && m.method != Method::RtSvao && m.method != Method::RtSvaoRays) {
-      for (const std::uint32_t p : far) ASSERT_EQ(m.ao[p], 1.0f) << method_name(m.method) << " pixel " << p;
+      for (const std::uint32_t p : far) ASSERT_EQ(m.ao[p], 1.0f) << compare_method_name(m.method) << " pixel " << p;
     }
   }
   for (const std::uint32_t p : far) ASSERT_EQ(r.exact[p], 1.0f);
@@ -395,7 +395,7 @@ TEST(Ssao, HiddenBoxSingleLayerMissesItStochasticSeesPartAbufferAndExactSeeAll) 
   const Gain hidden = box_gain(true, options);
   const Gain seen = box_gain(false, options);
   // Without the wall every method sees the box.
-  for (const auto& [m, gain] : seen.method) EXPECT_GT(gain, 0.02) << method_name(m);
+  for (const auto& [m, gain] : seen.method) EXPECT_GT(gain, 0.02) << compare_method_name(m);
   ASSERT_GT(seen.exact, 0.05);
   // Behind it, the first depth layer is the same with and without the box: nothing changes.
   EXPECT_EQ(hidden.method.at(Method::Hbao), 0.0);
@@ -640,7 +640,7 @@ TEST(Ssao, BadOptionsAreRefusedWithTheirName) {
   EXPECT_EQ(*parse_methods("all"), all_methods());
   EXPECT_EQ(all_methods().size(), 15u);
   EXPECT_FALSE(parse_methods("all,hbao"));
-  for (const Method m : all_methods()) EXPECT_EQ(parse_methods(method_name(m))->front(), m);
+  for (const Method m : all_methods()) EXPECT_EQ(parse_methods(compare_method_name(m))->front(), m);
   CompareOptions o = options_for(1.0f);
   o.hbao.directions = 0;
   EXPECT_NE(check(o).error().message.find("directions"), std::string::npos);
