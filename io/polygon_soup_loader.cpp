@@ -22,6 +22,8 @@
 #include <glm/glm.hpp>
 
 #include "core/file_kind.h"
+#include "io/mapped_file.h"
+#include "io/obj_ascii_reader.h"
 #include "io/ply_binary_reader.h"
 #include "io/stl_binary_reader.h"
 #include "io/soup_prescan.h"
@@ -222,18 +224,28 @@ std::optional<Result<Scene>> read_binary_layout(const std::string& path, const s
   return read_binary_ply(file, progress.parsing());
 }
 
-Result<Scene> load(const std::string& path, const ProgressCallback& progress) {
+Result<Scene> load(const std::string& path, const ProgressCallback& progress, SoupPath reader) {
   if (const std::string problem = not_a_regular_file(path); !problem.empty()) return fail(problem);
   const std::string ext = lowercase_extension(path);
   if (ext != ".obj" && ext != ".ply" && ext != ".off" && ext != ".stl") {
     return fail("not an OBJ, PLY, OFF or STL file");
   }
 
+  // (A file that does not map, or that the OBJ fast path does not take, is CGAL's to read or refuse.)
+  if (ext == ".obj" && reader == SoupPath::Fast) {
+    const MappedFile file(path);
+    if (file.ok()) {
+      if (std::optional<Result<Scene>> scene = read_ascii_obj(file.bytes(), progress)) return std::move(*scene);
+    }
+  }
   // CGAL's OFF and PLY readers trust the counts a file states (io/soup_prescan.h).
-  if (ext == ".ply" || ext == ".stl") {
+  if ((ext == ".ply" || ext == ".stl") && reader == SoupPath::Fast) {
     if (std::optional<Result<Scene>> scene = read_binary_layout(path, ext, LoadProgress{progress})) return std::move(*scene);
   }
-  const std::string problem = ext == ".off" ? off_problem(path) : std::string();
+  // (The fast path has run PLY's pre-scan already.)
+  const std::string problem = ext == ".off"                                ? off_problem(path)
+                              : ext == ".ply" && reader == SoupPath::Cgal ? ply_problem(path)
+                                                                          : std::string();
   if (!problem.empty()) return fail(problem);
 
   std::vector<Point> points;
@@ -299,11 +311,11 @@ Result<Scene> load(const std::string& path, const ProgressCallback& progress) {
 
 }  // namespace
 
-Result<Scene> load_polygon_soup(const std::string& path, const ProgressCallback& progress) {
+Result<Scene> load_polygon_soup(const std::string& path, const ProgressCallback& progress, SoupPath reader) {
   Result<Scene> scene;
   // CGAL reports some failures by throwing (its assertions, bad_alloc on a hostile count).
   try {
-    scene = load(path, progress);
+    scene = load(path, progress, reader);
   } catch (const std::exception& e) {
     std::string what = e.what();
     for (char& c : what) {
