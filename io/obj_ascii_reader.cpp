@@ -2,15 +2,14 @@
 
 #include <algorithm>
 #include <array>
-#include <charconv>
-#include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <limits>
 #include <string>
 #include <vector>
 
 #include <glm/glm.hpp>
+
+#include "io/stream_cursor.h"
 
 namespace exao {
 namespace {
@@ -25,96 +24,7 @@ constexpr std::array<std::string_view, 45> kIgnored{
     "surf_1", "q0_1",   "q1_1",     "curv2d_1", "surf_2",     "q0_2",      "q1_2",     "curv2d_2",
     "bsp",    "bzp",    "cdc",      "cdp",      "res"};
 
-// What a std::istream skips before a number (isspace in the "C" locale).
-constexpr bool is_space(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\v' || c == '\f' || c == '\r'; }
-constexpr bool is_digit(char c) { return c >= '0' && c <= '9'; }
-
 constexpr std::size_t kProgressStep = std::size_t{1} << 22;  // bytes between progress reports
-
-// One line of the file, consumed as a std::istringstream would be.
-struct Cursor {
-  const char* p;
-  const char* end;
-
-  void skip_space() {
-    while (p != end && is_space(*p)) ++p;
-  }
-
-  // The next word (what `>> std::string` reads); empty at the end of the line.
-  std::string_view word() {
-    skip_space();
-    const char* start = p;
-    while (p != end && !is_space(*p)) ++p;
-    return {start, static_cast<std::size_t>(p - start)};
-  }
-
-  // `>> double` as libstdc++ 12 does it in the "C" locale: num_get::_M_extract_float collects a
-  // sign, digits, one '.', and an 'e' (only after a digit) with its own sign and digits; strtod
-  // must then take every character collected, and an infinite result fails. false where the
-  // stream would fail. The number itself is read by std::from_chars, which rounds as strtod does
-  // (correctly, to nearest; libstdc++ 12 runs fast_float's algorithm inside it, as fast as the
-  // fast_float headers here), from the same characters (a leading '+', which strtod takes and
-  // from_chars does not, skipped).
-  bool number(double& out) {
-    skip_space();
-    if (p == end) return false;
-    const char* start = p;
-    if (*p == '+' || *p == '-') ++p;
-    bool mantissa = false;
-    bool dot = false;
-    bool exponent = false;
-    while (p != end) {
-      const char c = *p;
-      if (is_digit(c)) {
-        mantissa = true;
-      } else if (c == '.' && !dot && !exponent) {
-        dot = true;
-      } else if ((c == 'e' || c == 'E') && !exponent && mantissa) {
-        exponent = true;
-        if (++p == end) break;
-        if (*p != '+' && *p != '-') continue;  // the character after 'e' is looked at again
-      } else {
-        break;
-      }
-      ++p;
-    }
-    const char* first = *start == '+' ? start + 1 : start;
-    if (first == p || *first == '+') return false;
-    const std::from_chars_result r = std::from_chars(first, p, out);
-    return r.ec == std::errc() && r.ptr == p && !std::isinf(out);
-  }
-
-  // `>> int` as libstdc++ does it: a sign and decimal digits; false where the stream fails (no
-  // digit, or beyond int).
-  bool integer(long long& out) {
-    skip_space();
-    const char* start = p;
-    bool negative = false;
-    if (p != end && (*p == '+' || *p == '-')) negative = *p++ == '-';
-    const long long limit = negative ? -static_cast<long long>(std::numeric_limits<int>::min())
-                                     : std::numeric_limits<int>::max();
-    long long value = 0;
-    bool overflow = false;
-    const char* digits = p;
-    for (; p != end && is_digit(*p); ++p) {
-      if (!overflow) value = value * 10 + (*p - '0');
-      overflow = overflow || value > limit;
-    }
-    if (p == digits || overflow) {
-      p = start;
-      return false;
-    }
-    out = negative ? -value : value;
-    return true;
-  }
-
-  // istream::ignore(256, ' '): up to 256 characters, through the first space.
-  void ignore_through_space() {
-    for (int n = 0; n < 256 && p != end; ++n) {
-      if (*p++ == ' ') return;
-    }
-  }
-};
 
 }  // namespace
 
@@ -138,7 +48,7 @@ std::optional<Result<Scene>> read_ascii_obj(std::string_view file, const Progres
     // getline: a line ends at '\n', and the last one may have none.
     const char* eol = static_cast<const char*>(std::memchr(line, '\n', static_cast<std::size_t>(stop - line)));
     if (eol == nullptr) eol = stop;
-    Cursor in{line, eol};
+    StreamCursor in{line, eol};
     line = eol == stop ? stop : eol + 1;
     const std::string_view keyword = in.word();
     if (keyword.empty()) continue;

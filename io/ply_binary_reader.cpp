@@ -1,5 +1,7 @@
 #include "io/ply_binary_reader.h"
 
+#include "io/ply_header.h"
+
 #include <bit>
 #include <cstdint>
 #include <cstring>
@@ -12,44 +14,9 @@
 namespace exao {
 namespace {
 
-enum class Type { None, I8, U8, I16, U16, I32, U32, F32, F64 };
-
-Type type_of(const std::string& name) {
-  if (name == "char" || name == "int8") return Type::I8;
-  if (name == "uchar" || name == "uint8") return Type::U8;
-  if (name == "short" || name == "int16") return Type::I16;
-  if (name == "ushort" || name == "uint16") return Type::U16;
-  if (name == "int" || name == "int32") return Type::I32;
-  if (name == "uint" || name == "uint32") return Type::U32;
-  if (name == "float" || name == "float32") return Type::F32;
-  if (name == "double" || name == "float64") return Type::F64;
-  return Type::None;
-}
-
-std::size_t size_of(Type t) {
-  switch (t) {
-    case Type::I8: case Type::U8: return 1;
-    case Type::I16: case Type::U16: return 2;
-    case Type::I32: case Type::U32: case Type::F32: return 4;
-    case Type::F64: return 8;
-    case Type::None: return 0;
-  }
-  return 0;
-}
-
-struct Property {
-  std::string name;
-  Type type = Type::None;        // scalar, or a list's items
-  Type count_type = Type::None;  // a list's count; None for a scalar
-};
-
-struct Element {
-  std::string name;
-  std::uint64_t count = 0;
-  std::vector<Property> properties;
-  std::size_t scalar_bytes = 0;  // when no property is a list: the bytes of one entry
-  bool has_list = false;
-};
+using ply::Type;
+using ply::size_of;
+using ply::is_integer;
 
 template <class T>
 T load(const unsigned char* p, bool swap) {
@@ -95,65 +62,22 @@ std::int64_t as_integer(const unsigned char* p, Type t, bool swap) {
 
 constexpr std::uint64_t kProgressStep = 1 << 16;  // faces between progress reports
 
-bool is_integer(Type t) { return t != Type::None && t != Type::F32 && t != Type::F64; }
-
 }  // namespace
 
 std::optional<Result<Scene>> read_binary_ply(std::string_view file, const ProgressCallback& progress) {
-  // The header, as the pre-scan reads it.
-  std::size_t pos = 0;
-  std::string format;
-  std::vector<Element> elements;
-  bool end_seen = false;
-  for (int number = 1; number <= 10'000 && pos < file.size(); ++number) {
-    const std::size_t eol = file.find('\n', pos);
-    std::string line(file.substr(pos, eol == std::string_view::npos ? std::string_view::npos : eol - pos));
-    pos = eol == std::string_view::npos ? file.size() : eol + 1;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    std::istringstream iss(line);
-    std::string keyword;
-    iss >> keyword;
-    if (number == 1 && keyword != "ply") return std::nullopt;
-    if (keyword == "format") {
-      iss >> format;
-    } else if (keyword == "element") {
-      Element e;
-      iss >> e.name >> e.count;
-      if (!iss) return std::nullopt;
-      elements.push_back(std::move(e));
-    } else if (keyword == "property") {
-      if (elements.empty()) return std::nullopt;
-      Property p;
-      std::string type;
-      iss >> type;
-      if (type == "list") {
-        std::string count_type, item_type;
-        iss >> count_type >> item_type;
-        p.count_type = type_of(count_type);
-        p.type = type_of(item_type);
-        if (!is_integer(p.count_type) || p.type == Type::None) return std::nullopt;
-        elements.back().has_list = true;
-      } else {
-        p.type = type_of(type);
-        if (p.type == Type::None) return std::nullopt;
-        elements.back().scalar_bytes += size_of(p.type);
-      }
-      iss >> p.name;
-      elements.back().properties.push_back(std::move(p));
-    } else if (keyword == "end_header") {
-      end_seen = true;
-      break;
-    }
-  }
-  if (!end_seen) return std::nullopt;
+  const std::optional<ply::Header> header = ply::read_header(file);
+  if (!header) return std::nullopt;
+  const std::string& format = header->format;
+  const std::vector<ply::Element>& elements = header->elements;
+  std::size_t pos = header->data;
   if (format != "binary_little_endian" && format != "binary_big_endian") return std::nullopt;
   const bool swap = (format == "binary_big_endian") != (std::endian::native == std::endian::big);
 
   // The layouts taken: "vertex" of scalars with x, y, z; then "face" with one integer list
   // "vertex_indices" (or "vertex_index") and scalars. Other elements only of scalars.
-  const Element* vertex = nullptr;
-  const Element* face = nullptr;
-  for (const Element& e : elements) {
+  const ply::Element* vertex = nullptr;
+  const ply::Element* face = nullptr;
+  for (const ply::Element& e : elements) {
     if (e.name == "vertex") {
       if (vertex || face || e.has_list) return std::nullopt;
       vertex = &e;
@@ -167,7 +91,7 @@ std::optional<Result<Scene>> read_binary_ply(std::string_view file, const Progre
   if (!vertex || !face || vertex->count == 0 || face->count == 0) return std::nullopt;
   std::size_t offset[3] = {0, 0, 0};
   Type coordinate[3] = {Type::None, Type::None, Type::None};
-  for (std::size_t at = 0; const Property& p : vertex->properties) {
+  for (std::size_t at = 0; const ply::Property& p : vertex->properties) {
     for (int k = 0; k < 3; ++k) {
       if (p.name == std::string(1, static_cast<char>('x' + k))) offset[k] = at, coordinate[k] = p.type;
     }
@@ -178,7 +102,7 @@ std::optional<Result<Scene>> read_binary_ply(std::string_view file, const Progre
   }
   int index_property = -1;
   for (std::size_t i = 0; i < face->properties.size(); ++i) {
-    const Property& p = face->properties[i];
+    const ply::Property& p = face->properties[i];
     if (p.count_type == Type::None) continue;
     if (index_property >= 0 || (p.name != "vertex_indices" && p.name != "vertex_index") || !is_integer(p.type)) {
       return std::nullopt;
@@ -191,7 +115,7 @@ std::optional<Result<Scene>> read_binary_ply(std::string_view file, const Progre
   const std::size_t size = file.size();
   const auto truncated = [](const std::string& where) { return Result<Scene>(fail("the data ends inside " + where)); };
   std::vector<glm::vec3> points;
-  for (const Element& e : elements) {
+  for (const ply::Element& e : elements) {
     if (&e == face) break;
     if (&e != vertex) {
       if (e.count > (size - pos) / std::max<std::size_t>(1, e.scalar_bytes)) return truncated("element '" + e.name + "'");

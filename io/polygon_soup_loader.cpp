@@ -24,6 +24,7 @@
 #include "core/file_kind.h"
 #include "io/mapped_file.h"
 #include "io/obj_ascii_reader.h"
+#include "io/ply_ascii_reader.h"
 #include "io/ply_binary_reader.h"
 #include "io/stl_binary_reader.h"
 #include "io/soup_prescan.h"
@@ -212,16 +213,17 @@ bool read_with_cgal(const std::string& path, const std::string& ext, std::vector
   });
 }
 
-// The binary layouts read straight into the scene (io/ply_binary_reader.h,
-// io/stl_binary_reader.h), from one read of the file; nullopt for any other file, which CGAL
-// then reads. PLY's pre-scan (io/soup_prescan.h) reads the same bytes.
-std::optional<Result<Scene>> read_binary_layout(const std::string& path, const std::string& ext,
-                                                const LoadProgress& progress) {
+// The PLY and STL layouts read straight into the scene (io/ply_binary_reader.h,
+// io/ply_ascii_reader.h, io/stl_binary_reader.h), from one read of the file; nullopt for any
+// other file, which CGAL then reads. PLY's pre-scan (io/soup_prescan.h) reads the same bytes.
+std::optional<Result<Scene>> read_directly(const std::string& path, const std::string& ext,
+                                           const LoadProgress& progress) {
   std::string file;
   if (!read_file(path, file, progress.reading())) return Result<Scene>(fail("cannot read the file"));
   if (ext == ".stl") return read_binary_stl(file, progress.parsing());
   if (const std::string problem = ply_problem_in(file); !problem.empty()) return Result<Scene>(fail(problem));
-  return read_binary_ply(file, progress.parsing());
+  if (std::optional<Result<Scene>> scene = read_binary_ply(file, progress.parsing())) return scene;
+  return read_ascii_ply(file, progress.parsing());
 }
 
 Result<Scene> load(const std::string& path, const ProgressCallback& progress, SoupPath reader) {
@@ -240,7 +242,7 @@ Result<Scene> load(const std::string& path, const ProgressCallback& progress, So
   }
   // CGAL's OFF and PLY readers trust the counts a file states (io/soup_prescan.h).
   if ((ext == ".ply" || ext == ".stl") && reader == SoupPath::Fast) {
-    if (std::optional<Result<Scene>> scene = read_binary_layout(path, ext, LoadProgress{progress})) return std::move(*scene);
+    if (std::optional<Result<Scene>> scene = read_directly(path, ext, LoadProgress{progress})) return std::move(*scene);
   }
   // (The fast path has run PLY's pre-scan already.)
   const std::string problem = ext == ".off"                                ? off_problem(path)
