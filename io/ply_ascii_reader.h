@@ -1,7 +1,7 @@
 #pragma once
 // ASCII PLY read straight into a Scene for the layout nearly every such file has: a "vertex"
 // element of scalars with x, y, z (float or double), then a "face" element of one list of int or
-// uint indices. CGAL 5.5's reader takes every value through its stream (about 30 MB/s); this
+// uint indices. CGAL 5.5's reader takes every value through its stream (about 50 MB/s); this
 // one reads the same values with the same rounding (io/stream_cursor.h) and leaves every other
 // file to CGAL.
 

@@ -24,6 +24,7 @@
 #include "core/file_kind.h"
 #include "io/mapped_file.h"
 #include "io/obj_ascii_reader.h"
+#include "io/off_ascii_reader.h"
 #include "io/ply_ascii_reader.h"
 #include "io/ply_binary_reader.h"
 #include "io/stl_binary_reader.h"
@@ -233,11 +234,14 @@ Result<Scene> load(const std::string& path, const ProgressCallback& progress, So
     return fail("not an OBJ, PLY, OFF or STL file");
   }
 
-  // (A file that does not map, or that the OBJ fast path does not take, is CGAL's to read or refuse.)
-  if (ext == ".obj" && reader == SoupPath::Fast) {
+  // (A file that does not map, or that the OBJ or OFF fast path does not take, is CGAL's to read
+  // or refuse, after OFF's pre-scan.)
+  if ((ext == ".obj" || ext == ".off") && reader == SoupPath::Fast) {
     const MappedFile file(path);
     if (file.ok()) {
-      if (std::optional<Result<Scene>> scene = read_ascii_obj(file.bytes(), progress)) return std::move(*scene);
+      std::optional<Result<Scene>> scene =
+          ext == ".obj" ? read_ascii_obj(file.bytes(), progress) : read_ascii_off(file.bytes(), progress);
+      if (scene) return std::move(*scene);
     }
   }
   // CGAL's OFF and PLY readers trust the counts a file states (io/soup_prescan.h).

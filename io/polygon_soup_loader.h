@@ -11,7 +11,7 @@
 namespace exao {
 
 /// Which reader a polygon soup goes through: the fast paths where they take the file (PLY, binary
-/// STL, OBJ), else CGAL's; or CGAL's alone, the reference the fast paths are tested
+/// STL, OBJ, OFF), else CGAL's; or CGAL's alone, the reference the fast paths are tested
 /// against (they give its scene and its errors, bit for bit).
 enum class SoupPath { Fast, Cgal };
 
@@ -19,9 +19,9 @@ enum class SoupPath { Fast, Cgal };
 /// sidedness), polygons fan-triangulated. Same contract as load_scene (io/load_scene.h):
 /// degenerate or non-finite triangles are skipped and counted in `Scene::report`, and a missing,
 /// unreadable or malformed file, or one with no triangle left, fails with one line naming it.
-/// PLY (binary and ASCII), binary STL and OBJ are read straight into the scene where their fast
-/// paths take the file (io/ply_binary_reader.h, io/ply_ascii_reader.h, io/stl_binary_reader.h,
-/// io/obj_ascii_reader.h), the rest by CGAL. `progress` gets (done,
+/// PLY (binary and ASCII), binary STL, OBJ and ASCII OFF are read straight into the scene where
+/// their fast paths take the file (io/ply_binary_reader.h, io/ply_ascii_reader.h,
+/// io/stl_binary_reader.h, io/obj_ascii_reader.h, io/off_ascii_reader.h), the rest by CGAL. `progress` gets (done,
 /// total) work units: the file's bytes read, then made into triangles; or the bytes parsed; or
 /// the bytes CGAL's reader has taken.
 [[nodiscard]] Result<Scene> load_polygon_soup(const std::string& path, const ProgressCallback& progress = {},
