@@ -16,10 +16,11 @@ MappedFile::MappedFile(const std::string& path) {
     if (size_ == 0) {
       ok_ = true;
     } else {
-      // MAP_POPULATE reads the whole file ahead: its pages are then mapped in one call rather than
-      // faulted in one at a time as the parser reaches them.
-      void* p = ::mmap(nullptr, size_, PROT_READ, MAP_PRIVATE | MAP_POPULATE, fd, 0);
+      // Pages come in as the parser reaches them (so that its progress follows a cold disk),
+      // read ahead as for a sequential read: on a cached file as fast as MAP_POPULATE was.
+      void* p = ::mmap(nullptr, size_, PROT_READ, MAP_PRIVATE, fd, 0);
       if (p != MAP_FAILED) {
+        ::madvise(p, size_, MADV_SEQUENTIAL);
         data_ = p;
         ok_ = true;
       } else {

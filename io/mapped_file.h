@@ -12,7 +12,8 @@ namespace exao {
 
 class MappedFile {
  public:
-  /// Maps the regular file at `path` whole, its pages read ahead. An empty file maps to no bytes.
+  /// Maps the regular file at `path` whole, for reading front to back. An empty file maps to no
+  /// bytes.
   /// ok() is false when the file cannot be opened or mapped (a folder, a FIFO, no such file).
   explicit MappedFile(const std::string& path);
   ~MappedFile();
