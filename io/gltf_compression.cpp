@@ -18,7 +18,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "io/file_bytes.h"
+#include "io/mapped_file.h"
 
 namespace exao::gltf {
 namespace {
@@ -81,9 +81,9 @@ bool patch_for_tinygltf(std::string& json_text) {
   return changed;
 }
 
-std::uint32_t read32(const std::vector<unsigned char>& bytes, std::size_t at) {
+std::uint32_t read32(const unsigned char* bytes, std::size_t at) {
   std::uint32_t v = 0;
-  std::memcpy(&v, bytes.data() + at, sizeof v);
+  std::memcpy(&v, bytes + at, sizeof v);
   return v;
 }
 
@@ -475,42 +475,52 @@ void drop_extension(std::vector<std::string>& list, std::string_view name) {
 
 bool load_file(tinygltf::TinyGLTF& context, tinygltf::Model& model, std::string& err, std::string& warn,
                const std::string& path, bool binary) {
-  std::vector<unsigned char> bytes;
+  // Mapped, not read: tinygltf copies the BIN chunk into its buffer once, from the page cache.
+  const MappedFile file(path);
+  if (!file.ok()) {
+    err = "cannot read the file";
+    return false;
+  }
+  const auto* data = reinterpret_cast<const unsigned char*>(file.bytes().data());
+  const std::size_t size = file.bytes().size();
   const std::string base = std::filesystem::path(path).parent_path().string();
   const std::string base_dir = base.empty() ? "." : base;
-  if (!read_file_bytes(path, bytes)) {
-    err = "cannot read the file";
+  if (size > std::numeric_limits<unsigned int>::max()) {
+    err = "file is larger than 4 GiB";
     return false;
   }
   if (binary) {
     // GLB (glTF 2.0 section 4.4): header, JSON chunk, optional BIN chunk; only the JSON changes.
-    if (bytes.size() >= 20) {
-      const std::size_t json_length = read32(bytes, 12);
-      if (read32(bytes, 16) == 0x4E4F534Au && json_length <= bytes.size() - 20) {
-        std::string json(bytes.begin() + 20, bytes.begin() + 20 + static_cast<std::ptrdiff_t>(json_length));
+    std::vector<unsigned char> rebuilt;
+    if (size >= 20) {
+      const std::size_t json_length = read32(data, 12);
+      if (read32(data, 16) == 0x4E4F534Au && json_length <= size - 20) {
+        std::string json(data + 20, data + 20 + json_length);
         if (patch_for_tinygltf(json)) {
           json.resize((json.size() + 3) / 4 * 4, ' ');
-          std::vector<unsigned char> rebuilt;
           const std::size_t rest = (20 + json_length + 3) / 4 * 4;  // the BIN chunk, as it was
-          const std::size_t tail = rest < bytes.size() ? bytes.size() - rest : 0;
+          const std::size_t tail = rest < size ? size - rest : 0;
           put32(rebuilt, 0x46546C67u);
           put32(rebuilt, 2);
           put32(rebuilt, static_cast<std::uint32_t>(20 + json.size() + tail));
           put32(rebuilt, static_cast<std::uint32_t>(json.size()));
           put32(rebuilt, 0x4E4F534Au);
           rebuilt.insert(rebuilt.end(), json.begin(), json.end());
-          if (tail > 0) rebuilt.insert(rebuilt.end(), bytes.begin() + static_cast<std::ptrdiff_t>(rest), bytes.end());
-          bytes = std::move(rebuilt);
+          if (tail > 0) rebuilt.insert(rebuilt.end(), data + rest, data + size);
+          if (rebuilt.size() > std::numeric_limits<unsigned int>::max()) {
+            err = "file is larger than 4 GiB";
+            return false;
+          }
         }
       }
     }
-    if (bytes.size() > std::numeric_limits<unsigned int>::max()) {
-      err = "file is larger than 4 GiB";
-      return false;
+    if (!rebuilt.empty()) {
+      return context.LoadBinaryFromMemory(&model, &err, &warn, rebuilt.data(), static_cast<unsigned int>(rebuilt.size()),
+                                          base_dir);
     }
-    return context.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), static_cast<unsigned int>(bytes.size()), base_dir);
+    return context.LoadBinaryFromMemory(&model, &err, &warn, data, static_cast<unsigned int>(size), base_dir);
   }
-  std::string json(bytes.begin(), bytes.end());
+  std::string json(file.bytes());
   patch_for_tinygltf(json);
   if (json.size() > std::numeric_limits<unsigned int>::max()) {
     err = "file is larger than 4 GiB";

@@ -142,65 +142,37 @@ std::string one_line(std::string_view text) {
   return out.empty() ? "unreadable glTF" : out;
 }
 
-// The sparse substitution of `acc` (glTF 2.0 section 5.1.3) into `values`, its count * n
-// numbers: every index and value checked against its view and the accessor's count.
-Result<void> apply_sparse(const tinygltf::Model& model, const tinygltf::Accessor& acc, const std::string& name,
-                          std::vector<double>& values) {
-  const auto n = static_cast<std::size_t>(tinygltf::GetNumComponentsInType(static_cast<std::uint32_t>(acc.type)));
-  const auto size = static_cast<std::size_t>(component_size(acc.componentType));
-  const std::size_t element = n * size;
-  const int count = acc.sparse.count;
-  const int index_type = acc.sparse.indices.componentType;
-  if (count < 0 || static_cast<std::size_t>(count) > acc.count) {
-    return fail(name + ": sparse count " + std::to_string(count) + " exceeds count " +
-                std::to_string(acc.count));
-  }
-  if (std::find(kIndexTypes.begin(), kIndexTypes.end(), index_type) == kIndexTypes.end()) {
-    return fail(name + ": sparse indices have unsupported component type " +
-                std::to_string(index_type));
-  }
-  if (acc.sparse.indices.byteOffset < 0 || acc.sparse.values.byteOffset < 0) {
-    return fail(name + ": negative sparse byteOffset");
-  }
-  const auto sparse_count = static_cast<std::size_t>(count);
-  const auto index_size = static_cast<std::size_t>(component_size(index_type));
-  // Sparse indices and values are tightly packed (glTF 2.0 section 5.1.3).
-  auto index_bytes = view_bytes(model, acc.sparse.indices.bufferView,
-                                static_cast<std::size_t>(acc.sparse.indices.byteOffset),
-                                sparse_count, index_size, index_size, name + " sparse indices");
-  if (!index_bytes) return std::unexpected(index_bytes.error());
-  auto value_bytes = view_bytes(model, acc.sparse.values.bufferView,
-                                static_cast<std::size_t>(acc.sparse.values.byteOffset),
-                                sparse_count, element, element, name + " sparse values");
-  if (!value_bytes) return std::unexpected(value_bytes.error());
-  for (std::size_t i = 0; i < sparse_count; ++i) {
-    const auto target = static_cast<std::size_t>(
-        read_component(*index_bytes + i * index_size, index_type, false));
-    if (target >= acc.count) {
-      return fail(name + ": sparse index " + std::to_string(target) + " >= count " +
-                  std::to_string(acc.count));
-    }
-    for (std::size_t c = 0; c < n; ++c) {
-      values[target * n + c] = read_component(*value_bytes + i * element + c * size,
-                                              acc.componentType, acc.normalized);
-    }
-  }
-  return {};
-}
+namespace {
 
-// Reads accessor `index` as `count * components` numbers, decoded per read_component, with
-// byteStride honoured and any sparse substitution applied. `allowed` lists the component
-// types this use accepts; anything else is an error, as is a type of another width, or
-// `normalized` where the use forbids it (indices).
-Result<std::vector<double>> read_accessor(const tinygltf::Model& model, int index, int components,
-                                          std::span<const int> allowed, bool may_normalize,
-                                          const std::string& what) {
+// An accessor's bytes, every check of read_accessor passed: `count` elements of `element` bytes,
+// `stride` apart from `base` (nullptr: no buffer view, zeros), and where its sparse
+// substitution lies.
+struct AccessorBytes {
+  const tinygltf::Accessor* accessor = nullptr;
+  const unsigned char* base = nullptr;
+  std::size_t count = 0;
+  std::size_t stride = 0;
+  std::size_t element = 0;
+  std::size_t component = 0;                 // bytes of one component
+  std::size_t sparse_count = 0;              // 0 without sparse values
+  const unsigned char* sparse_indices = nullptr;
+  const unsigned char* sparse_values = nullptr;
+  int sparse_index_type = 0;
+  std::string name;                          // "accessor N (what)", for errors
+};
+
+// Every check read_accessor makes, before a value is read or an element allocated.
+Result<AccessorBytes> locate_accessor(const tinygltf::Model& model, int index, int components,
+                                      std::span<const int> allowed, bool may_normalize, const std::string& what) {
   if (index < 0 || static_cast<std::size_t>(index) >= model.accessors.size()) {
     return fail(what + " refers to accessor " + std::to_string(index) + ", file has " +
                 std::to_string(model.accessors.size()));
   }
   const tinygltf::Accessor& acc = model.accessors[static_cast<std::size_t>(index)];
-  const std::string name = "accessor " + std::to_string(index) + " (" + what + ")";
+  AccessorBytes out;
+  out.accessor = &acc;
+  out.name = "accessor " + std::to_string(index) + " (" + what + ")";
+  const std::string& name = out.name;
   if (tinygltf::GetNumComponentsInType(static_cast<std::uint32_t>(acc.type)) != components) {
     return fail(
         name + " has " +
@@ -212,46 +184,195 @@ Result<std::vector<double>> read_accessor(const tinygltf::Model& model, int inde
   }
   if (acc.normalized && !may_normalize) return fail(name + " must not be normalized");
   const auto n = static_cast<std::size_t>(components);
-  const auto size = static_cast<std::size_t>(component_size(acc.componentType));
-  const std::size_t element = n * size;
+  out.component = static_cast<std::size_t>(component_size(acc.componentType));
+  out.element = n * out.component;
+  out.count = acc.count;
+  out.stride = out.element;
   if (acc.bufferView < 0 && acc.count > kMaxViewlessCount) {
     return fail(name + " has " + std::to_string(acc.count) + " elements and no buffer view");
   }
 
   // The bytes are checked before anything is allocated, so a hostile count fails here.
-  const unsigned char* base = nullptr;
-  std::size_t stride = element;
   if (acc.bufferView >= 0) {
     if (static_cast<std::size_t>(acc.bufferView) < model.bufferViews.size()) {
       const std::size_t given =
           model.bufferViews[static_cast<std::size_t>(acc.bufferView)].byteStride;
-      if (given != 0) stride = given;
+      if (given != 0) out.stride = given;
     }
-    if (stride < element) {
-      return fail(name + ": byteStride " + std::to_string(stride) + " is less than an element (" +
-                  std::to_string(element) + " bytes)");
+    if (out.stride < out.element) {
+      return fail(name + ": byteStride " + std::to_string(out.stride) + " is less than an element (" +
+                  std::to_string(out.element) + " bytes)");
     }
     auto bytes =
-        view_bytes(model, acc.bufferView, acc.byteOffset, acc.count, stride, element, name);
+        view_bytes(model, acc.bufferView, acc.byteOffset, acc.count, out.stride, out.element, name);
     if (!bytes) return std::unexpected(bytes.error());
-    base = *bytes;
-  }
-
-  // Without a buffer view the base values are zeros (glTF 2.0 section 3.6.2.3).
-  std::vector<double> values(acc.count * n, 0.0);
-  if (base != nullptr) {
-    for (std::size_t i = 0; i < acc.count; ++i) {
-      const unsigned char* p = base + i * stride;
-      for (std::size_t c = 0; c < n; ++c) {
-        values[i * n + c] = read_component(p + c * size, acc.componentType, acc.normalized);
-      }
-    }
+    out.base = *bytes;
   }
 
   if (acc.sparse.isSparse) {
-    if (auto ok = apply_sparse(model, acc, name, values); !ok) return std::unexpected(ok.error());
+    const int count = acc.sparse.count;
+    const int index_type = acc.sparse.indices.componentType;
+    if (count < 0 || static_cast<std::size_t>(count) > acc.count) {
+      return fail(name + ": sparse count " + std::to_string(count) + " exceeds count " +
+                  std::to_string(acc.count));
+    }
+    if (std::find(kIndexTypes.begin(), kIndexTypes.end(), index_type) == kIndexTypes.end()) {
+      return fail(name + ": sparse indices have unsupported component type " +
+                  std::to_string(index_type));
+    }
+    if (acc.sparse.indices.byteOffset < 0 || acc.sparse.values.byteOffset < 0) {
+      return fail(name + ": negative sparse byteOffset");
+    }
+    const auto sparse_count = static_cast<std::size_t>(count);
+    const auto index_size = static_cast<std::size_t>(component_size(index_type));
+    // Sparse indices and values are tightly packed (glTF 2.0 section 5.1.3).
+    auto index_bytes = view_bytes(model, acc.sparse.indices.bufferView,
+                                  static_cast<std::size_t>(acc.sparse.indices.byteOffset),
+                                  sparse_count, index_size, index_size, name + " sparse indices");
+    if (!index_bytes) return std::unexpected(index_bytes.error());
+    auto value_bytes = view_bytes(model, acc.sparse.values.bufferView,
+                                  static_cast<std::size_t>(acc.sparse.values.byteOffset),
+                                  sparse_count, out.element, out.element, name + " sparse values");
+    if (!value_bytes) return std::unexpected(value_bytes.error());
+    out.sparse_count = sparse_count;
+    out.sparse_index_type = index_type;
+    out.sparse_indices = *index_bytes;
+    out.sparse_values = *value_bytes;
   }
+  return out;
+}
+
+// The sparse substitution (glTF 2.0 section 3.6.2.3): set(target, value bytes) for each sparse
+// entry in file order, after checking its target index; a later entry overwrites an earlier one.
+template <class Set>
+Result<void> substitute_sparse(const AccessorBytes& a, Set&& set) {
+  const auto index_size = static_cast<std::size_t>(component_size(a.sparse_index_type));
+  for (std::size_t i = 0; i < a.sparse_count; ++i) {
+    const auto target =
+        static_cast<std::size_t>(read_component(a.sparse_indices + i * index_size, a.sparse_index_type, false));
+    if (target >= a.count) {
+      return fail(a.name + ": sparse index " + std::to_string(target) + " >= count " + std::to_string(a.count));
+    }
+    set(target, a.sparse_values + i * a.element);
+  }
+  return {};
+}
+
+// The elements of a VEC3 accessor as read_component decodes them; float components (the common
+// case) are read without the per-component type switch.
+void decode_vec3(const AccessorBytes& a, std::span<glm::dvec3> out) {
+  const int type = a.accessor->componentType;
+  const bool normalized = a.accessor->normalized;
+  if (type == kFloat) {
+    for (std::size_t i = 0; i < a.count; ++i) {
+      float v[3];
+      std::memcpy(v, a.base + i * a.stride, sizeof v);
+      out[i] = glm::dvec3(v[0], v[1], v[2]);
+    }
+    return;
+  }
+  for (std::size_t i = 0; i < a.count; ++i) {
+    const unsigned char* p = a.base + i * a.stride;
+    out[i] = glm::dvec3(read_component(p, type, normalized), read_component(p + a.component, type, normalized),
+                        read_component(p + 2 * a.component, type, normalized));
+  }
+}
+
+// Indices of type T, each checked against the vertex count, in file order.
+template <class T>
+Result<void> decode_indices(const AccessorBytes& a, std::size_t vertex_count, const std::string& where,
+                            std::uint32_t* out) {
+  for (std::size_t i = 0; i < a.count; ++i) {
+    T v;
+    std::memcpy(&v, a.base + i * a.stride, sizeof v);
+    if (v >= vertex_count) {
+      return fail(where + ": index " + std::to_string(static_cast<std::uint64_t>(v)) + " >= vertex count " +
+                  std::to_string(vertex_count));
+    }
+    out[i] = static_cast<std::uint32_t>(v);
+  }
+  return {};
+}
+
+}  // namespace
+
+// Reads accessor `index` as `count * components` numbers, decoded per read_component, with
+// byteStride honoured and any sparse substitution applied.
+Result<std::vector<double>> read_accessor(const tinygltf::Model& model, int index, int components,
+                                          std::span<const int> allowed, bool may_normalize,
+                                          const std::string& what) {
+  Result<AccessorBytes> a = locate_accessor(model, index, components, allowed, may_normalize, what);
+  if (!a) return std::unexpected(a.error());
+  const auto n = static_cast<std::size_t>(components);
+  const int type = a->accessor->componentType;
+  const bool normalized = a->accessor->normalized;
+  // Without a buffer view the base values are zeros (glTF 2.0 section 3.6.2.3).
+  std::vector<double> values(a->count * n, 0.0);
+  if (a->base != nullptr) {
+    for (std::size_t i = 0; i < a->count; ++i) {
+      const unsigned char* p = a->base + i * a->stride;
+      for (std::size_t c = 0; c < n; ++c) values[i * n + c] = read_component(p + c * a->component, type, normalized);
+    }
+  }
+  auto ok = substitute_sparse(*a, [&](std::size_t target, const unsigned char* p) {
+    for (std::size_t c = 0; c < n; ++c) values[target * n + c] = read_component(p + c * a->component, type, normalized);
+  });
+  if (!ok) return std::unexpected(ok.error());
   return values;
+}
+
+Result<std::vector<glm::dvec3>> read_vec3(const tinygltf::Model& model, int index, std::span<const int> allowed,
+                                          bool may_normalize, const std::string& what, AccessorPath path) {
+  if (path == AccessorPath::Generic) {
+    Result<std::vector<double>> values = read_accessor(model, index, 3, allowed, may_normalize, what);
+    if (!values) return std::unexpected(values.error());
+    std::vector<glm::dvec3> out(values->size() / 3);
+    for (std::size_t v = 0; v < out.size(); ++v) out[v] = glm::make_vec3(&(*values)[3 * v]);
+    return out;
+  }
+  Result<AccessorBytes> a = locate_accessor(model, index, 3, allowed, may_normalize, what);
+  if (!a) return std::unexpected(a.error());
+  std::vector<glm::dvec3> out(a->count, glm::dvec3(0.0));
+  if (a->base != nullptr) decode_vec3(*a, out);
+  const int type = a->accessor->componentType;
+  const bool normalized = a->accessor->normalized;
+  auto ok = substitute_sparse(*a, [&](std::size_t target, const unsigned char* p) {
+    out[target] = glm::dvec3(read_component(p, type, normalized), read_component(p + a->component, type, normalized),
+                             read_component(p + 2 * a->component, type, normalized));
+  });
+  if (!ok) return std::unexpected(ok.error());
+  return out;
+}
+
+Result<std::vector<std::uint32_t>> read_indices(const tinygltf::Model& model, int index, std::size_t vertex_count,
+                                                const std::string& where, AccessorPath path) {
+  const std::string what = where + " indices";
+  Result<AccessorBytes> a = locate_accessor(model, index, 1, kIndexTypes, false, what);
+  if (!a) return std::unexpected(a.error());
+  std::vector<std::uint32_t> out;
+  // Sparse or view-less indices are rare: they take the generic reading.
+  if (path == AccessorPath::Generic || a->base == nullptr || a->sparse_count > 0) {
+    Result<std::vector<double>> values = read_accessor(model, index, 1, kIndexTypes, false, what);
+    if (!values) return std::unexpected(values.error());
+    out.reserve(values->size());
+    for (const double i : *values) {
+      if (i >= static_cast<double>(vertex_count)) {
+        return fail(where + ": index " + std::to_string(static_cast<std::uint64_t>(i)) + " >= vertex count " +
+                    std::to_string(vertex_count));
+      }
+      out.push_back(static_cast<std::uint32_t>(i));
+    }
+    return out;
+  }
+  out.resize(a->count);
+  Result<void> ok;
+  switch (a->accessor->componentType) {
+    case kUnsignedByte: ok = decode_indices<std::uint8_t>(*a, vertex_count, where, out.data()); break;
+    case kUnsignedShort: ok = decode_indices<std::uint16_t>(*a, vertex_count, where, out.data()); break;
+    default: ok = decode_indices<std::uint32_t>(*a, vertex_count, where, out.data()); break;  // kIndexTypes
+  }
+  if (!ok) return std::unexpected(ok.error());
+  return out;
 }
 
 // A node's local transform: its matrix, or T * R * S (glTF 2.0 section 3.5.3).

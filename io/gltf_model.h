@@ -11,6 +11,7 @@
 #include <tiny_gltf.h>
 
 #include <array>
+#include <cstdint>
 #include <span>
 #include <string>
 #include <string_view>
@@ -49,6 +50,26 @@ inline constexpr std::array kRotationTypes{kFloat, kByte, kShort};
 [[nodiscard]] Result<std::vector<double>> read_accessor(const tinygltf::Model& model, int index, int components,
                                                         std::span<const int> allowed, bool may_normalize,
                                                         const std::string& what);
+
+/// How the hot accessors (positions, indices) are read. Direct decodes each component type in a
+/// loop of its own straight from the buffer; Generic goes through read_accessor's doubles. Both
+/// make every check read_accessor makes and give the same values, bit for bit, and the same
+/// errors (tests/gltf_direct_test.cpp): Generic is the reference the direct loops are tested
+/// against.
+enum class AccessorPath { Direct, Generic };
+
+/// A VEC3 accessor (POSITION) as read_accessor decodes it, one dvec3 per element.
+[[nodiscard]] Result<std::vector<glm::dvec3>> read_vec3(const tinygltf::Model& model, int index,
+                                                        std::span<const int> allowed, bool may_normalize,
+                                                        const std::string& what,
+                                                        AccessorPath path = AccessorPath::Direct);
+
+/// A primitive's index accessor (unsigned byte, short or int; never normalized), each index
+/// checked against `vertex_count`: fails with "WHERE: index I >= vertex count N" at the first one
+/// out of range. `where` names the primitive ("mesh 0 primitive 1").
+[[nodiscard]] Result<std::vector<std::uint32_t>> read_indices(const tinygltf::Model& model, int index,
+                                                              std::size_t vertex_count, const std::string& where,
+                                                              AccessorPath path = AccessorPath::Direct);
 
 /// A node's local transform: its matrix, or T * R * S (glTF 2.0 section 3.5.3).
 [[nodiscard]] Result<glm::dmat4> local_transform(const tinygltf::Node& node, int index);

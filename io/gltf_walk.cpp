@@ -15,38 +15,25 @@ namespace {
 
 // The vertex order of a primitive's triangles: its indices, or 0..count-1 without them.
 Result<std::vector<std::uint32_t>> vertex_order(const tinygltf::Model& model, const tinygltf::Primitive& prim,
-                                                std::size_t vertex_count, const std::string& where) {
-  std::vector<std::uint32_t> order;
-  if (prim.indices < 0) {
-    if (vertex_count > std::numeric_limits<std::uint32_t>::max()) return fail(where + ": too many vertices");
-    order.resize(vertex_count);
-    for (std::size_t i = 0; i < vertex_count; ++i) order[i] = static_cast<std::uint32_t>(i);
-    return order;
-  }
-  auto indices = read_accessor(model, prim.indices, 1, kIndexTypes, false, where + " indices");
-  if (!indices) return std::unexpected(indices.error());
-  order.reserve(indices->size());
-  for (const double i : *indices) {
-    if (i >= static_cast<double>(vertex_count)) {
-      return fail(where + ": index " + std::to_string(static_cast<std::uint64_t>(i)) + " >= vertex count " +
-                  std::to_string(vertex_count));
-    }
-    order.push_back(static_cast<std::uint32_t>(i));
-  }
+                                                std::size_t vertex_count, const std::string& where, AccessorPath path) {
+  if (prim.indices >= 0) return read_indices(model, prim.indices, vertex_count, where, path);
+  if (vertex_count > std::numeric_limits<std::uint32_t>::max()) return fail(where + ": too many vertices");
+  std::vector<std::uint32_t> order(vertex_count);
+  for (std::size_t i = 0; i < vertex_count; ++i) order[i] = static_cast<std::uint32_t>(i);
   return order;
 }
 
 // Triangles from a list, strip or fan; strips and fans keep the first triangle's winding (glTF
 // 2.0 section 3.7.2.1 gives these vertex orders).
-std::vector<std::uint32_t> triangle_corners(int mode, const std::vector<std::uint32_t>& order, const std::string& where,
+std::vector<std::uint32_t> triangle_corners(int mode, std::vector<std::uint32_t> order, const std::string& where,
                                             LoadReport& report) {
   const std::size_t n = order.size();
-  std::vector<std::uint32_t> c;
   if (mode == TINYGLTF_MODE_TRIANGLES) {
     if (n % 3 != 0) report.notes.push_back(where + ": " + std::to_string(n % 3) + " trailing vertices ignored");
-    c.assign(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(n - n % 3));
-    return c;
+    order.resize(n - n % 3);
+    return order;
   }
+  std::vector<std::uint32_t> c;
   if (n < 3) return c;
   c.reserve(3 * (n - 2));
   for (std::size_t i = 0; i + 2 < n; ++i) {
@@ -61,7 +48,8 @@ std::vector<std::uint32_t> triangle_corners(int mode, const std::vector<std::uin
 }
 
 // The triangle primitives of a mesh; points, lines and primitives without POSITION are skipped.
-Result<std::vector<MeshPrimitive>> decode_mesh(const tinygltf::Model& model, int mesh_index, LoadReport& report) {
+Result<std::vector<MeshPrimitive>> decode_mesh(const tinygltf::Model& model, int mesh_index, LoadReport& report,
+                                               AccessorPath path) {
   const tinygltf::Mesh& mesh = model.meshes[static_cast<std::size_t>(mesh_index)];
   std::vector<MeshPrimitive> out;
   for (std::size_t p = 0; p < mesh.primitives.size(); ++p) {
@@ -90,14 +78,12 @@ Result<std::vector<MeshPrimitive>> decode_mesh(const tinygltf::Model& model, int
     MeshPrimitive decoded;
     decoded.mesh = mesh_index;
     decoded.primitive = static_cast<int>(p);
-    auto positions = read_accessor(model, position->second, 3, kPositionTypes, true, where + " POSITION");
+    auto positions = read_vec3(model, position->second, kPositionTypes, true, where + " POSITION", path);
     if (!positions) return std::unexpected(positions.error());
-    const std::size_t vertex_count = positions->size() / 3;
-    decoded.positions.resize(vertex_count);
-    for (std::size_t v = 0; v < vertex_count; ++v) decoded.positions[v] = glm::make_vec3(&(*positions)[3 * v]);
-    auto order = vertex_order(model, prim, vertex_count, where);
+    decoded.positions = std::move(*positions);
+    auto order = vertex_order(model, prim, decoded.positions.size(), where, path);
     if (!order) return std::unexpected(order.error());
-    decoded.corners = triangle_corners(prim.mode, *order, where, report);
+    decoded.corners = triangle_corners(prim.mode, std::move(*order), where, report);
     if (prim.material >= 0) {
       if (static_cast<std::size_t>(prim.material) >= model.materials.size()) {
         return fail(where + " refers to material " + std::to_string(prim.material) + ", file has " +
@@ -130,16 +116,17 @@ void emit(ModelWalk& walk, std::size_t part_index) {
   }
 }
 
-// The node's mesh, drawn once per instancing row; its primitives decoded on first use.
+// The node's mesh, placed once per instancing row (its parts are emitted after the walk); its
+// primitives decoded on first use.
 Result<void> draw_mesh(const tinygltf::Model& model, const tinygltf::Node& node, int node_index, const glm::dmat4& world,
-                       std::map<int, std::vector<int>>& decoded, ModelWalk& walk) {
+                       std::map<int, std::vector<int>>& decoded, ModelWalk& walk, AccessorPath path) {
   if (static_cast<std::size_t>(node.mesh) >= model.meshes.size()) {
     return fail("node " + std::to_string(node_index) + " refers to mesh " + std::to_string(node.mesh) + ", file has " +
                 std::to_string(model.meshes.size()));
   }
   auto found = decoded.find(node.mesh);
   if (found == decoded.end()) {
-    auto primitives = decode_mesh(model, node.mesh, walk.scene.report);
+    auto primitives = decode_mesh(model, node.mesh, walk.scene.report, path);
     if (!primitives) return std::unexpected(primitives.error());
     std::vector<int> indices;
     for (MeshPrimitive& prim : *primitives) {
@@ -158,17 +145,14 @@ Result<void> draw_mesh(const tinygltf::Model& model, const tinygltf::Node& node,
     instance.world = world * (*rows)[r];
     instance.mirrored = glm::determinant(instance.world) < 0.0;
     walk.instances.push_back(instance);
-    for (const int prim : found->second) {
-      walk.parts.push_back({static_cast<int>(walk.instances.size() - 1), prim, {}});
-      emit(walk, walk.parts.size() - 1);
-    }
+    for (const int prim : found->second) walk.parts.push_back({static_cast<int>(walk.instances.size() - 1), prim, {}});
   }
   return {};
 }
 
 }  // namespace
 
-Result<ModelWalk> walk_model(const tinygltf::Model& model) {
+Result<ModelWalk> walk_model(const tinygltf::Model& model, AccessorPath path) {
   if (auto ok = check_required_extensions(model); !ok) return std::unexpected(ok.error());
   auto roots = root_nodes(model);
   if (!roots) return std::unexpected(roots.error());
@@ -208,11 +192,20 @@ Result<ModelWalk> walk_model(const tinygltf::Model& model) {
       add_camera(model, node, world, walk.scene);
     }
     if (node.mesh >= 0) {
-      if (auto ok = draw_mesh(model, node, visit.node, world, decoded, walk); !ok) return std::unexpected(ok.error());
+      if (auto ok = draw_mesh(model, node, visit.node, world, decoded, walk, path); !ok) return std::unexpected(ok.error());
       if (node.skin >= 0) ++skinned;
     }
     for (auto it = node.children.rbegin(); it != node.children.rend(); ++it) stack.push_back({*it, world});
   }
+  // The triangles, in the order the walk placed the parts, into arrays sized once (with the
+  // padding that lets Embree read the vertices in place, core/scene.h).
+  std::size_t triangles = 0;
+  for (const Part& part : walk.parts) triangles += walk.primitives[static_cast<std::size_t>(part.primitive)].corners.size() / 3;
+  walk.scene.vertices.reserve(3 * triangles + Scene::kVertexPadding);
+  walk.scene.two_sided.reserve(triangles);
+  walk.scene.material.reserve(triangles);
+  walk.triangle_source.reserve(triangles);
+  for (std::size_t p = 0; p < walk.parts.size(); ++p) emit(walk, p);
   LoadReport& report = walk.scene.report;
   if (report.primitives_skipped > 0) {
     report.notes.push_back(std::to_string(report.primitives_skipped) +

@@ -16,6 +16,7 @@
 
 #include "core/error.h"
 #include "core/scene.h"
+#include "io/gltf_model.h"
 
 namespace exao::gltf {
 
@@ -72,7 +73,8 @@ struct ModelWalk {
 /// children. Points and lines are skipped and counted, a primitive without POSITION is skipped
 /// with a note, trailing vertices of a triangle list are noted. Fails with a one-line error (no
 /// file name: the caller adds it) on a malformed file (an index out of range, a cycle in the node
-/// tree, a Draco primitive without fallback) or one with no triangle.
-[[nodiscard]] Result<ModelWalk> walk_model(const tinygltf::Model& model);
+/// tree, a Draco primitive without fallback) or one with no triangle. `path`: how positions and
+/// indices are read (io/gltf_model.h; Generic only to test Direct against).
+[[nodiscard]] Result<ModelWalk> walk_model(const tinygltf::Model& model, AccessorPath path = AccessorPath::Direct);
 
 }  // namespace exao::gltf

@@ -23,6 +23,10 @@
 
 #include "core/file_kind.h"
 #include "io/file_bytes.h"
+#include "io/mapped_file.h"
+#include "io/obj_ascii_reader.h"
+#include "io/off_ascii_reader.h"
+#include "io/ply_ascii_reader.h"
 #include "io/ply_binary_reader.h"
 #include "io/stl_binary_reader.h"
 #include "io/soup_prescan.h"
@@ -191,30 +195,44 @@ bool read_with_cgal(const std::string& path, const std::string& ext, std::vector
   });
 }
 
-// The binary layouts read straight into the scene (io/ply_binary_reader.h,
-// io/stl_binary_reader.h), from one read of the file; nullopt for any other file, which CGAL
-// then reads. PLY's pre-scan (io/soup_prescan.h) reads the same bytes.
-std::optional<Result<Scene>> read_binary_layout(const std::string& path, const std::string& ext,
-                                                const LoadProgress& progress) {
+// The PLY and STL layouts read straight into the scene (io/ply_binary_reader.h,
+// io/ply_ascii_reader.h, io/stl_binary_reader.h), from one read of the file; nullopt for any
+// other file, which CGAL then reads. PLY's pre-scan (io/soup_prescan.h) reads the same bytes.
+std::optional<Result<Scene>> read_directly(const std::string& path, const std::string& ext,
+                                           const LoadProgress& progress) {
   std::string file;
   if (!read_file_bytes(path, file, progress.reading())) return Result<Scene>(fail("cannot read the file"));
   if (ext == ".stl") return read_binary_stl(file, progress.parsing());
   if (const std::string problem = ply_problem_in(file); !problem.empty()) return Result<Scene>(fail(problem));
-  return read_binary_ply(file, progress.parsing());
+  if (std::optional<Result<Scene>> scene = read_binary_ply(file, progress.parsing())) return scene;
+  return read_ascii_ply(file, progress.parsing());
 }
 
-Result<Scene> load(const std::string& path, const ProgressCallback& progress) {
+Result<Scene> load(const std::string& path, const ProgressCallback& progress, SoupPath reader) {
   if (const std::string problem = not_a_regular_file(path); !problem.empty()) return fail(problem);
   const std::string ext = lowercase_extension(path);
   if (ext != ".obj" && ext != ".ply" && ext != ".off" && ext != ".stl") {
     return fail("not an OBJ, PLY, OFF or STL file");
   }
 
-  // CGAL's OFF and PLY readers trust the counts a file states (io/soup_prescan.h).
-  if (ext == ".ply" || ext == ".stl") {
-    if (std::optional<Result<Scene>> scene = read_binary_layout(path, ext, LoadProgress{progress})) return std::move(*scene);
+  // (A file that does not map, or that the OBJ or OFF fast path does not take, is CGAL's to read
+  // or refuse, after OFF's pre-scan.)
+  if ((ext == ".obj" || ext == ".off") && reader == SoupPath::Fast) {
+    const MappedFile file(path);
+    if (file.ok()) {
+      std::optional<Result<Scene>> scene =
+          ext == ".obj" ? read_ascii_obj(file.bytes(), progress) : read_ascii_off(file.bytes(), progress);
+      if (scene) return std::move(*scene);
+    }
   }
-  const std::string problem = ext == ".off" ? off_problem(path) : std::string();
+  // CGAL's OFF and PLY readers trust the counts a file states (io/soup_prescan.h).
+  if ((ext == ".ply" || ext == ".stl") && reader == SoupPath::Fast) {
+    if (std::optional<Result<Scene>> scene = read_directly(path, ext, LoadProgress{progress})) return std::move(*scene);
+  }
+  // (The fast path has run PLY's pre-scan already.)
+  const std::string problem = ext == ".off"                                ? off_problem(path)
+                              : ext == ".ply" && reader == SoupPath::Cgal ? ply_problem(path)
+                                                                          : std::string();
   if (!problem.empty()) return fail(problem);
 
   std::vector<Point> points;
@@ -280,11 +298,11 @@ Result<Scene> load(const std::string& path, const ProgressCallback& progress) {
 
 }  // namespace
 
-Result<Scene> load_polygon_soup(const std::string& path, const ProgressCallback& progress) {
+Result<Scene> load_polygon_soup(const std::string& path, const ProgressCallback& progress, SoupPath reader) {
   Result<Scene> scene;
   // CGAL reports some failures by throwing (its assertions, bad_alloc on a hostile count).
   try {
-    scene = load(path, progress);
+    scene = load(path, progress, reader);
   } catch (const std::exception& e) {
     std::string what = e.what();
     for (char& c : what) {

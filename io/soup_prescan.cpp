@@ -119,12 +119,13 @@ std::string ply_body_problem_ascii(std::string_view body, const std::vector<PlyE
         if (token.empty()) return {};  // too short: CGAL reads zeros and fails on its own
         if (!p.list) continue;
         std::uint64_t count = 0;
-        const std::string where = "element '" + element.name + "' entry " + std::to_string(entry);
-        if (!parse_count(token, count)) return where + ": list size '" + std::string(token.substr(0, 20)) + "' is not a count";
+        // Worded only when needed, as in the binary scan.
+        const auto where = [&] { return "element '" + element.name + "' entry " + std::to_string(entry); };
+        if (!parse_count(token, count)) return where() + ": list size '" + std::string(token.substr(0, 20)) + "' is not a count";
         // Each item takes at least one character and one separator.
         const std::size_t left = body.size() - pos;
         if (count > left / 2 + 1) {
-          return where + ": a list of " + std::to_string(count) + " items does not fit in the " +
+          return where() + ": a list of " + std::to_string(count) + " items does not fit in the " +
                  std::to_string(left) + " bytes left";
         }
         for (std::uint64_t i = 0; i < count; ++i) {
@@ -330,6 +331,16 @@ std::string ply_problem_in(std::string_view file) {
       } else {
         property.size = ply_type_size(type);
         if (property.size == 0) return {};
+      }
+      // CGAL's point reader takes a vertex's x, y and z as a float or a double property and
+      // dereferences a null pointer for any other (PLY_element::assign(double&)).
+      std::string name;
+      iss >> name;
+      const std::string& element = elements.back().name;
+      const bool real = !property.list && (type == "float" || type == "float32" || type == "double" || type == "float64");
+      if ((element == "vertex" || element == "vertices") && (name == "x" || name == "y" || name == "z") && !real) {
+        return where + ": vertex coordinate '" + name + "' is " + (property.list ? "a list" : type) +
+               " (float or double expected)";
       }
       elements.back().properties.push_back(property);
     } else if (keyword == "end_header") {

@@ -107,8 +107,8 @@ TEST(PlyBinary, FastPathEqualsCgalsReader) {
   test::TempDir dir;
   test::write_file(dir / "ascii.ply", ascii_ply(mesh));
   const std::string ascii_bytes = ascii_ply(mesh);
-  EXPECT_FALSE(read_binary_ply(ascii_bytes).has_value()) << "ASCII goes to CGAL";
-  const Result<Scene> reference = load_polygon_soup((dir / "ascii.ply").string());
+  EXPECT_FALSE(read_binary_ply(ascii_bytes).has_value()) << "ASCII is not the binary reader's";
+  const Result<Scene> reference = load_polygon_soup((dir / "ascii.ply").string(), {}, SoupPath::Cgal);
   ASSERT_TRUE(reference.has_value()) << reference.error().message;
   EXPECT_EQ(reference->report.zero_area_skipped, 1u);
   EXPECT_EQ(reference->report.non_finite_skipped, 1u);
@@ -154,7 +154,7 @@ TEST(PlyBinary, TruncatedOrDanglingFilesAreRefused) {
   test::write_file(dir / "dangling.ply", binary_ply(dangling, false, false));
   test::write_file(dir / "dangling-ascii.ply", ascii_ply(dangling));
   const Result<Scene> fast = load_polygon_soup((dir / "dangling.ply").string());
-  const Result<Scene> cgal = load_polygon_soup((dir / "dangling-ascii.ply").string());
+  const Result<Scene> cgal = load_polygon_soup((dir / "dangling-ascii.ply").string(), {}, SoupPath::Cgal);
   ASSERT_FALSE(fast.has_value());
   ASSERT_FALSE(cgal.has_value());
   const std::string vertices = std::to_string(dangling.xyz.size() / 3);

@@ -79,7 +79,7 @@ TEST(StlBinary, FastPathEqualsCgalsReader) {
   const std::string ascii = ascii_stl(facets);
   EXPECT_FALSE(read_binary_stl(ascii).has_value()) << "ASCII goes to CGAL";
   test::write_file(dir / "ascii.stl", ascii);
-  const Result<Scene> reference = load_polygon_soup((dir / "ascii.stl").string());
+  const Result<Scene> reference = load_polygon_soup((dir / "ascii.stl").string(), {}, SoupPath::Cgal);
   ASSERT_TRUE(reference.has_value()) << reference.error().message;
   EXPECT_EQ(reference->report.zero_area_skipped, 1u);
   EXPECT_EQ(reference->report.non_finite_skipped, 1u);
