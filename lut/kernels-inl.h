@@ -181,13 +181,17 @@ inline constexpr int kMaxNearCells = 16;  // a cap on the loop; the cost decides
 // practice the near path serves the scalar kernels and very small cones at sse2.
 inline constexpr float kNearSetupCost = 4.0f;
 inline constexpr float kVectorCost = 0.5f;
+[[nodiscard]] inline float vector_cost(std::uint64_t reached) {
+  return static_cast<float>(std::popcount(reached) * (kSampleCluster / Lanes::kWidth)) * kVectorCost;
+}
+// Whether any near path can be cheaper than the vectors of `reached` (before near_cells).
+[[nodiscard]] inline bool near_may_pay(std::uint64_t reached) { return kNearSetupCost < vector_cost(reached); }
 [[nodiscard]] inline bool near_is_cheaper(const SampleArrays& s, const NearCells& cells, std::uint64_t reached) {
   const int g = s.grid_size();
   const std::uint16_t* start = s.grid_start();
   int samples = 0;
   for (int y = cells.y0; y <= cells.y1; ++y) samples += start[y * g + cells.x1 + 1] - start[y * g + cells.x0];
-  const float vectors = static_cast<float>(std::popcount(reached) * (kSampleCluster / Lanes::kWidth));
-  return kNearSetupCost + static_cast<float>(samples) < vectors * kVectorCost;
+  return kNearSetupCost + static_cast<float>(samples) < vector_cost(reached);
 }
 
 // Calls f(i) for every sample i of the cells whose cluster is in `allowed`.
@@ -235,7 +239,7 @@ template <int Bits>
   if (test.kind == SphereTest::Kind::Rays && ctx.cull_clusters && test.cone_sin < 1.0f) {
     clusters &= sphere_reach<Bits>(*ctx.samples, test.axis, test.cone_cos, test.cone_sin, ctx.cluster_slack);
     NearCells cells;
-    if (clusters && near_cells(*ctx.samples, test.axis, test.cone_sin, test.cone_cos - ctx.cluster_slack, cells) &&
+    if (near_may_pay(clusters) && near_cells(*ctx.samples, test.axis, test.cone_sin, test.cone_cos - ctx.cluster_slack, cells) &&
         near_is_cheaper(*ctx.samples, cells, clusters)) {
       Mask<Bits> mask;
       int tested = 0;
@@ -370,7 +374,7 @@ template <int Bits>
       clusters &= sphere_reach<Bits>(*ctx.samples, s.axis, s.cosine, s.sine, ctx.cluster_slack);
     }
     NearCells cells;
-    if (ctx.exact && s.use_cone && clusters && near_cells(*ctx.samples, s.axis, s.sine, s.cosine - ctx.cluster_slack, cells) &&
+    if (ctx.exact && s.use_cone && near_may_pay(clusters) && near_cells(*ctx.samples, s.axis, s.sine, s.cosine - ctx.cluster_slack, cells) &&
         near_is_cheaper(*ctx.samples, cells, clusters)) {
       // 6b for a small cone: the planes on the near samples only.
       Mask<Bits> mask;
@@ -553,7 +557,7 @@ template <int Bits>
                                        ctx.cluster_slack + s.widen);
     }
     NearCells cells;
-    if (!s.flat && s.use_cone && clusters &&
+    if (!s.flat && s.use_cone && near_may_pay(clusters) &&
         near_cells(*ctx.samples, s.axis, s.cone_sin, s.cone_cos - ctx.cluster_slack, cells) &&
         near_is_cheaper(*ctx.samples, cells, clusters)) {
       // A small cone: its few candidate samples one by one (the cells' proof above holds for the
