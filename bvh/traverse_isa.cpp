@@ -15,7 +15,7 @@
 #include "lut/mask_kernels.h"
 #include "lut/sphere_test.h"
 
-#include "lut/kernel_target.h"
+#include "core/kernel_target.h"
 
 namespace exao::bvh::EXAO_KERNEL_NS {
 
@@ -34,7 +34,7 @@ using lut::make_sphere_test;
 using lut::occupied_clusters;
 using lut::origin_triangle_distance2;
 
-#include "lut/lanes-inl.h"
+#include "core/lanes-inl.h"
 #include "lut/kernels-inl.h"
 #include "bvh/leaf_setup-inl.h"
 #include "bvh/node_setup-inl.h"
@@ -58,4 +58,4 @@ const TraverseTable& traverse_table() {
 
 }  // namespace exao::bvh::EXAO_KERNEL_NS
 
-#include "lut/kernel_target_end.h"
+#include "core/kernel_target_end.h"

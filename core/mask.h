@@ -5,7 +5,7 @@
 // operation here preserves (none of them sets a bit that neither operand had, except ones(n)).
 //
 // The instruction set the kernels run is chosen at run time, in core/isa.h (one copy of each
-// kernel per level, lut/kernel_target.h; the engine reports the one it runs). What is chosen
+// kernel per level, core/kernel_target.h; the engine reports the one it runs). What is chosen
 // here, at compile time, is only how the mask word operations below are written in this
 // translation unit (a kernel copy compiled for a level sees that level's macros):
 //   EXAO_SIMD_AVX512  AVX-512 F/BW/VL 512-bit registers (and VPOPCNTDQ when present);

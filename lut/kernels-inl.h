@@ -1,7 +1,7 @@
 // The mask kernels of DESIGN.md section 4 for one instruction set: triangle masks, conservative
 // sphere masks and plane masks, over the pattern's clusters. Included by lut/mask_kernels_isa.cpp
-// and bvh/traverse_isa.cpp inside namespace EXAO_KERNEL_NS, after lut/kernel_target.h (so it
-// has no include guard and includes nothing); lut/lanes-inl.h first. The contracts are those of
+// and bvh/traverse_isa.cpp inside namespace EXAO_KERNEL_NS, after core/kernel_target.h (so it
+// has no include guard and includes nothing); core/lanes-inl.h first. The contracts are those of
 // lut/mask_engine.h.
 //
 // Clusters (lut/sample_arrays.h): every kernel takes a set of clusters `allowed` and computes

@@ -12,11 +12,11 @@
 #include "lut/mask_kernels.h"
 #include "lut/sphere_test.h"
 
-#include "lut/kernel_target.h"
+#include "core/kernel_target.h"
 
 namespace exao::lut::EXAO_KERNEL_NS {
 
-#include "lut/lanes-inl.h"
+#include "core/lanes-inl.h"
 #include "lut/kernels-inl.h"
 
 namespace {
@@ -50,4 +50,4 @@ const MaskKernels& kernels() {
 
 }  // namespace exao::lut::EXAO_KERNEL_NS
 
-#include "lut/kernel_target_end.h"
+#include "core/kernel_target_end.h"

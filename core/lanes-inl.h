@@ -1,8 +1,9 @@
-// exao::lut::<isa>::Lanes: a few float operations over W lanes at once, for the instruction set
-// of the translation unit that includes this file (lut/kernel_target.h sets EXAO_KERNEL_LANES
-// and the matching `#pragma GCC target`), so that each kernel is written once and compiled for
-// every level of core/isa.h. No include guard: it is included once per instruction set, inside
-// that set's namespace.
+// Lanes: a few float operations over W lanes at once, for the instruction set of the
+// translation unit that includes this file, inside that level's namespace (lut::<isa> for the
+// mask kernels, bvh::<isa> for the traversal: both sit above core, where this lives).
+// core/kernel_target.h sets EXAO_KERNEL_LANES and the matching `#pragma GCC target`, so that
+// each kernel is written once and compiled for every level of core/isa.h. No include guard: it
+// is included once per instruction set, inside that set's namespace.
 //
 // Exactness: every level evaluates the same expression tree with separate IEEE multiplies and
 // adds (no FMA; exao_options builds with -ffp-contract=off), and the comparisons are ordered
@@ -115,7 +116,7 @@ struct Lanes {
   static F select(M m, F if_true, F if_false) { return _mm_or_ps(_mm_and_ps(m, if_true), _mm_andnot_ps(m, if_false)); }
 };
 #else
-#error "EXAO_KERNEL_LANES must be 1, 4, 8 or 16 (include lut/kernel_target.h first)"
+#error "EXAO_KERNEL_LANES must be 1, 4, 8 or 16 (include core/kernel_target.h first)"
 #endif
 
 #if EXAO_KERNEL_LANES >= 4

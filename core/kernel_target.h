@@ -2,7 +2,7 @@
 // core/isa.h (CMake's exao_kernel_objects) includes every header it needs first, then this file,
 // which opens `#pragma GCC target` for the level named by EXAO_KERNEL_ISA_<LEVEL> and defines
 // EXAO_KERNEL_NS (the namespace that keeps each level's symbols apart) and EXAO_KERNEL_LANES,
-// then its own -inl.h kernels inside namespace EXAO_KERNEL_NS, then lut/kernel_target_end.h.
+// then its own -inl.h kernels inside namespace EXAO_KERNEL_NS, then core/kernel_target_end.h.
 //
 // Why a pragma and not -mavx2 on the file: inline functions of the headers included before
 // (the standard library, GLM, exao's own) keep the baseline instruction set in their
