@@ -180,39 +180,122 @@ inline int mask_cached_occluders(const Bvh& bvh, const lut::MaskEngine& engine, 
   return previous.count;
 }
 
+// The margins of one receiver's world-space culls.
+struct ReceiverMargins {
+  float g = 0.0f;         // certain: 2 delta of core/grazing.h, world units
+  float slack = 0.0f;     // float slack of the box culls (at least 2 g for certain)
+  float reach2 = 0.0f;    // (r + slack)^2: a child box farther than this is culled
+  float box_grow = 0.0f;  // the box masks' margin
+};
+
+template <bool Certain>
+[[nodiscard]] inline ReceiverMargins receiver_margins(const Bvh& bvh, const lut::MaskEngine& engine, const Frame& frame) {
+  const float r = engine.kernel_context().radius;
+  const glm::vec3 o = frame.origin;
+  ReceiverMargins m;
+  // Float slack for the world-space tests, which triangle_mask computes differently.
+  m.slack = engine.reach_slack(o, 0.0f);
+  // Certain: g = 2 delta, delta from the largest coordinate of the origin and of the whole
+  // scene (an upper bound of every triangle's), rounded up.
+  if constexpr (Certain) {
+    const float largest = std::max({std::abs(o.x), std::abs(o.y), std::abs(o.z), bvh.largest_coordinate});
+    m.g = static_cast<float>(2.0 * kGrazingUlps * 0x1p-24) * (largest + r) * (1.0f + 1e-3f);
+    m.slack = std::max(m.slack, 2.0f * m.g);
+  }
+  m.reach2 = (r + m.slack) * (r + m.slack);
+  // The boxes' margin covers the rounding of the frame and of the plane tests.
+  m.box_grow = 2e-5f * (bvh.largest_coordinate + r) + m.slack - bvh.box_shrink_for_test;
+  return m;
+}
+
+// What one receiver's traversal has found so far.
+template <int Bits>
+struct ReceiverState {
+  Mask<Bits> blocked;     // the cumulative mask
+  Mask<Bits> maybe;       // certain: the maybe bits met
+  std::uint32_t units = 0;  // certain: the work spent (nodes and leaf triangles)
+  OccluderCache next;     // the triangles that blocked new rays, for the next receiver
+};
+
+// Culls and estimates the children of `node`, and pushes the survivors, largest estimate on top.
+// Node masks come from the children's boxes where every triangle mask lies in its box (exact
+// planes; certain masks grown by g < slack); a table's masks carry its cells' errors, and only
+// the sphere holds them (lut/sphere_test.h).
+template <int Bits, bool Certain>
+[[gnu::always_inline]] inline void push_children(const lut::KernelContext& ctx, const Node& node, const Frame& frame,
+                          const ReceiverMargins& m, const Mask<Bits>& blocked, int n_rays, WorldRays<Bits>& world_rays,
+                          detail::StackEntry<Bits>* stack, int& top, lut::KernelCounters* counters) {
+  const std::uint64_t open = lut::open_clusters(blocked, n_rays);
+  int estimate[kMaxChildren];
+  Mask<Bits> child_mask[kMaxChildren];
+  int order[kMaxChildren];
+  int survivors = 0;
+  ChildSetup children;
+  for (std::uint32_t live = child_setup(node, frame, m.reach2, m.slack, m.g, ctx.radius, children); live;
+       live &= live - 1) {
+    const int k = std::countr_zero(live);
+    if (ctx.exact || Certain) {
+      // The open clusters the cone of the child's sphere reaches, then the rays of those that
+      // meet its box: tighter than the sphere's own rays where the child is flat or long (most
+      // of a mesh), and cheaper.
+      const std::uint64_t wanted = child_clusters<Bits>(ctx, children, k, open, counters);
+      if (!wanted) continue;
+      prepare_world_rays<Bits>(*ctx.samples, frame, ctx.radius, wanted, world_rays);
+      child_mask[k] = box_mask<Bits>(node, k, frame.origin, m.box_grow, world_rays, wanted);
+    } else {
+      child_mask[k] = sphere_test_mask<Bits>(ctx, children.test(k), open, counters);
+    }
+    estimate[k] = popcount_and_not(child_mask[k], blocked);
+    if (estimate[k] == 0) continue;
+    order[survivors++] = k;
+  }
+  // Push in increasing order, so the largest is popped next (insertion sort: at most four).
+  for (int i = 1; i < survivors; ++i) {
+    for (int j = i; j > 0 && estimate[order[j]] < estimate[order[j - 1]]; --j) std::swap(order[j], order[j - 1]);
+  }
+  for (int i = 0; i < survivors; ++i) {
+    const int k = order[i];
+    stack[top++] = {child_mask[k], node.child[k], node.leaf_size[k]};
+  }
+}
+
+// The leaf at bvh.packed[first..first + size), on the clusters of `wanted`: its set-up in lanes,
+// then the rest for the triangles that pass, in order, until no cluster is left open.
+template <int Bits, bool Stats, bool Certain>
+[[gnu::always_inline]] inline void mask_leaf(const Bvh& bvh, const lut::MaskEngine& engine, const Frame& frame, float g, std::uint32_t first,
+                      int size, const Mask<Bits>& wanted, ReceiverState<Bits>& state, TraversalStats* stats) {
+  const lut::KernelContext& ctx = engine.kernel_context();
+  lut::KernelCounters* counters = Stats ? &stats->kernels : nullptr;
+  const int n_rays = engine.samples();
+  std::uint64_t allowed = lut::occupied_clusters(wanted);
+  LeafSetup setup;
+  std::uint32_t live = leaf_setup<Certain>(ctx, bvh.blocks[bvh.leaf_block[first]], frame, g, setup);
+  if (frame.excluded_object != kNoObject) live &= ~object_lanes(bvh, first, size, frame.excluded_object);
+  if constexpr (Stats) stats->triangles_tested += static_cast<std::uint64_t>(size);
+  for (; live; live &= live - 1) {
+    const int l = std::countr_zero(live);
+    const Mask<Bits> sure =
+        finish_triangle<Bits, Certain>(bvh, engine, first + l, setup, l, frame, g, allowed, counters, state.maybe);
+    const bool blocks = popcount_and_not(sure, state.blocked) > 0;
+    if constexpr (Stats) stats->triangles_blocking += blocks;
+    if (!blocks) continue;
+    state.next.add(first + l);
+    state.blocked |= sure;
+    allowed &= lut::open_clusters(state.blocked, n_rays);
+    if (!allowed) break;
+  }
+}
+
 template <int Bits, bool Stats, bool Certain>
 [[nodiscard]] Mask<Bits> traverse_receiver(const Bvh& bvh, const lut::MaskEngine& engine, const Frame& frame,
                                            TraversalStats* stats, const MaskBudget* budget,
                                            HybridOutcome<Bits>* outcome, OccluderCache* cache) {
   const lut::KernelContext& ctx = engine.kernel_context();
   lut::KernelCounters* counters = Stats ? &stats->kernels : nullptr;
-  const int n_rays = engine.samples();
-  const float r = ctx.radius;
   const Mask<Bits> all = engine.template all_rays<Bits>();
-  Mask<Bits> blocked;
-  const glm::vec3 o = frame.origin;
-  // Float slack for the world-space tests below, which triangle_mask computes differently.
-  float slack = engine.reach_slack(o, 0.0f);
-  // Certain: g = 2 delta of core/grazing.h, delta from the largest coordinate of the origin and
-  // of the whole scene (an upper bound of every triangle's), rounded up.
-  float g = 0.0f;
-  if constexpr (Certain) {
-    const float largest = std::max({std::abs(o.x), std::abs(o.y), std::abs(o.z), bvh.largest_coordinate});
-    g = static_cast<float>(2.0 * kGrazingUlps * 0x1p-24) * (largest + r) * (1.0f + 1e-3f);
-    slack = std::max(slack, 2.0f * g);
-  }
-  const float reach2 = (r + slack) * (r + slack);
-  // Node masks from the children's boxes where every triangle mask lies in its box (exact
-  // planes; certain masks grown by g < slack); a table's masks carry its cells' errors, and
-  // only the sphere holds them (lut/sphere_test.h). The boxes' margin covers the rounding of
-  // the frame and of the plane tests.
-  const bool use_boxes = ctx.exact || Certain;
-  const float box_grow = 2e-5f * (bvh.largest_coordinate + r) + slack - bvh.box_shrink_for_test;
+  const ReceiverMargins m = receiver_margins<Certain>(bvh, engine, frame);
+  ReceiverState<Bits> state;
   WorldRays<Bits> world_rays;
-  [[maybe_unused]] Mask<Bits> maybe;
-  [[maybe_unused]] std::uint32_t units = 0;
-  [[maybe_unused]] const float rays_per_unit = budget ? budget->rays_per_unit : 0.0f;
-  [[maybe_unused]] const float allowance = budget ? budget->allowance : 0.0f;
   // The cost model (Certain, with a budget): stop when the work spent, in Embree rays, exceeds
   // the rays decided so far plus the allowance.
   const auto over_budget = [&]() {
@@ -220,115 +303,59 @@ template <int Bits, bool Stats, bool Certain>
       return false;
     } else {
       if (!budget) return false;
-      const float spent = static_cast<float>(units) * rays_per_unit;
-      return spent > allowance && spent > static_cast<float>(blocked.popcount()) + allowance;
+      const float spent = static_cast<float>(state.units) * budget->rays_per_unit;
+      return spent > budget->allowance && spent > static_cast<float>(state.blocked.popcount()) + budget->allowance;
     }
   };
   const auto finish = [&](bool complete) {
     if constexpr (Certain) {
-      outcome->units = units;
+      outcome->units = state.units;
       outcome->complete = complete;
-      outcome->undecided = complete ? and_not(maybe, blocked) : and_not(all, blocked);
+      outcome->undecided = complete ? and_not(state.maybe, state.blocked) : and_not(all, state.blocked);
     }
-    return blocked;
+    if (cache) *cache = state.next;
+    return state.blocked;
   };
 
   // The occluders of the previous receiver first; this receiver's, for the next.
-  OccluderCache next;
   if (cache && cache->count > 0) {
-    const int set_up = mask_cached_occluders<Bits, Certain>(bvh, engine, frame, g, *cache, next, blocked, maybe, counters);
+    const int set_up = mask_cached_occluders<Bits, Certain>(bvh, engine, frame, m.g, *cache, state.next, state.blocked,
+                                                            state.maybe, counters);
     if constexpr (Stats) stats->triangles_cached += static_cast<std::uint64_t>(set_up);
-    if constexpr (Certain) units += static_cast<std::uint32_t>(set_up);
+    if constexpr (Certain) state.units += static_cast<std::uint32_t>(set_up);
   }
-  const auto finish_cached = [&](bool complete) {
-    if (cache) *cache = next;
-    return finish(complete);
-  };
 
   alignas(64) detail::StackEntry<Bits> stack[detail::kStackSize];
   int top = 0;
   std::uint32_t node_index = 0;
   if constexpr (Stats) ++stats->receivers;
-
   while (true) {
-    const Node& node = bvh.nodes[node_index];
     if constexpr (Stats) ++stats->nodes_visited;
     if constexpr (Certain) {
-      ++units;
-      if (over_budget()) return finish_cached(false);
+      ++state.units;
+      if (over_budget()) return finish(false);
     }
-    const std::uint64_t open = lut::open_clusters(blocked, n_rays);
-
-    // Cull and estimate every child of the node.
-    int estimate[kMaxChildren];
-    Mask<Bits> child_mask[kMaxChildren];
-    int order[kMaxChildren];
-    int survivors = 0;
-    ChildSetup children;
-    for (std::uint32_t live = child_setup(node, frame, reach2, slack, g, r, children); live; live &= live - 1) {
-      const int k = std::countr_zero(live);
-      if (use_boxes) {
-        // The open clusters the cone of the child's sphere reaches, then the rays of those that
-        // meet its box: tighter than the sphere's own rays where the child is flat or long
-        // (most of a mesh), and cheaper.
-        const std::uint64_t wanted = child_clusters<Bits>(ctx, children, k, open, counters);
-        if (!wanted) continue;
-        prepare_world_rays<Bits>(*ctx.samples, frame, r, wanted, world_rays);
-        child_mask[k] = box_mask<Bits>(node, k, o, box_grow, world_rays, wanted);
-      } else {
-        child_mask[k] = sphere_test_mask<Bits>(ctx, children.test(k), open, counters);
-      }
-      estimate[k] = popcount_and_not(child_mask[k], blocked);
-      if (estimate[k] == 0) continue;
-      order[survivors++] = k;
-    }
-    // Largest estimate first: push in increasing order, so the largest is popped next
-    // (insertion sort: at most four children).
-    for (int i = 1; i < survivors; ++i) {
-      for (int j = i; j > 0 && estimate[order[j]] < estimate[order[j - 1]]; --j) std::swap(order[j], order[j - 1]);
-    }
-    for (int i = 0; i < survivors; ++i) {
-      const int k = order[i];
-      stack[top++] = {child_mask[k], node.child[k], node.leaf_size[k]};
-    }
-
-    // Pop until an internal node is found, processing leaves on the way.
+    push_children<Bits, Certain>(ctx, bvh.nodes[node_index], frame, m, state.blocked, engine.samples(), world_rays,
+                                 stack, top, counters);
+    // Pop until an internal node is found, masking leaves on the way.
     bool descended = false;
     while (top > 0) {
       const detail::StackEntry<Bits>& entry = stack[--top];
-      const Mask<Bits> wanted = and_not(entry.mask, blocked);
+      const Mask<Bits> wanted = and_not(entry.mask, state.blocked);
       if (wanted.none()) continue;  // blocked meanwhile
       if (entry.leaf_size == 0) {
         node_index = entry.child;
         descended = true;
         break;
       }
-      std::uint64_t allowed = lut::occupied_clusters(wanted);
-      // The leaf's set-up in lanes, then the rest for the triangles that pass, in order.
-      LeafSetup setup;
-      std::uint32_t live = leaf_setup<Certain>(ctx, bvh.blocks[bvh.leaf_block[entry.child]], frame, g, setup);
-      if (frame.excluded_object != kNoObject) live &= ~object_lanes(bvh, entry.child, entry.leaf_size, frame.excluded_object);
-      if constexpr (Stats) stats->triangles_tested += entry.leaf_size;
-      while (live) {
-        const int l = std::countr_zero(live);
-        live &= live - 1;
-        const Mask<Bits> sure =
-            finish_triangle<Bits, Certain>(bvh, engine, entry.child + l, setup, l, frame, g, allowed, counters, maybe);
-        const bool blocks = popcount_and_not(sure, blocked) > 0;
-        if constexpr (Stats) stats->triangles_blocking += blocks;
-        if (!blocks) continue;
-        next.add(entry.child + l);
-        blocked |= sure;
-        allowed &= lut::open_clusters(blocked, n_rays);
-        if (!allowed) break;
-      }
-      if (blocked == all) return finish_cached(true);
+      mask_leaf<Bits, Stats, Certain>(bvh, engine, frame, m.g, entry.child, entry.leaf_size, wanted, state, stats);
+      if (state.blocked == all) return finish(true);
       if constexpr (Certain) {
-        units += entry.leaf_size;
-        if (over_budget()) return finish_cached(false);
+        state.units += entry.leaf_size;
+        if (over_budget()) return finish(false);
       }
     }
-    if (!descended) return finish_cached(true);
+    if (!descended) return finish(true);
   }
 }
 
