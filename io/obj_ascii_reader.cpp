@@ -1,4 +1,5 @@
 #include "io/obj_ascii_reader.h"
+#include "io/obj_ignored_statements.h"
 
 #include <algorithm>
 #include <array>
@@ -14,15 +15,6 @@
 namespace exao {
 namespace {
 
-// The statements CGAL 5.5's reader accepts and ignores (CGAL/IO/OBJ.h, as in
-// io/polygon_soup_loader.cpp).
-constexpr std::array<std::string_view, 45> kIgnored{
-    "vt",     "vn",     "vp",       "bevel",    "lod",        "ctech",     "c_interp", "usemap",
-    "usemtl", "stech",  "d_interp", "mtllib",   "shadow_obj", "trace_obj", "o",        "g",
-    "s",      "p",      "cstype",   "deg",      "step",       "bmat",      "con",      "curv",
-    "curv2",  "surf",   "parm",     "trim",     "hole",       "scrv",      "sp",       "end",
-    "surf_1", "q0_1",   "q1_1",     "curv2d_1", "surf_2",     "q0_2",      "q1_2",     "curv2d_2",
-    "bsp",    "bzp",    "cdc",      "cdp",      "res"};
 
 constexpr std::size_t kProgressStep = std::size_t{1} << 22;  // bytes between progress reports
 
@@ -77,7 +69,9 @@ std::optional<Result<Scene>> read_ascii_obj(std::string_view file, const Progres
       for (std::size_t k = 1; k + 1 < polygon.size(); ++k) {
         scene.add_triangle(points[polygon[0]], points[polygon[k]], points[polygon[k + 1]], true, -1);
       }
-    } else if (keyword.front() != '#' && std::find(kIgnored.begin(), kIgnored.end(), keyword) == kIgnored.end()) {
+    } else if (keyword.front() != '#' &&
+               std::find(kObjIgnoredStatements.begin(), kObjIgnoredStatements.end(), keyword) ==
+                   kObjIgnoredStatements.end()) {
       return std::nullopt;  // CGAL refuses the file: its path says why
     }
     if (progress && static_cast<std::size_t>(line - begin) >= next_report) {

@@ -2,6 +2,7 @@
 // sidedness, so every triangle blocks rays from both sides; polygons are fan-triangulated.
 
 #include "io/polygon_soup_loader.h"
+#include "io/obj_ignored_statements.h"
 
 #include <CGAL/IO/polygon_soup_io.h>
 #include <CGAL/Simple_cartesian.h>
@@ -43,15 +44,6 @@ std::string lowercase_extension(const std::string& path) {
   return ext;
 }
 
-// The OBJ statements CGAL 5.5's reader accepts and ignores (CGAL/IO/OBJ.h); any other, such
-// as `l` (a polyline), makes it refuse the whole file.
-constexpr std::array<std::string_view, 45> kObjIgnored{
-    "vt",     "vn",    "vp",       "bevel",    "lod",        "ctech",     "c_interp", "usemap",
-    "usemtl", "stech", "d_interp", "mtllib",   "shadow_obj", "trace_obj", "o",        "g",
-    "s",      "p",     "cstype",   "deg",      "step",       "bmat",      "con",      "curv",
-    "curv2",  "surf",  "parm",     "trim",     "hole",       "scrv",      "sp",       "end",
-    "surf_1", "q0_1",  "q1_1",     "curv2d_1", "surf_2",     "q0_2",      "q1_2",     "curv2d_2",
-    "bsp",    "bzp",   "cdc",      "cdp",      "res"};
 
 // CGAL's reader says only "false" when it refuses a file (its verbose mode prints to stderr,
 // which library code must not do). For OBJ, the most common hand-made format, this scan finds
@@ -90,7 +82,8 @@ std::string explain_obj_failure(const std::string& path) {
       }
       face_max.push_back(largest);
     } else if (keyword.front() != '#' &&
-               std::find(kObjIgnored.begin(), kObjIgnored.end(), keyword) == kObjIgnored.end()) {
+               std::find(kObjIgnoredStatements.begin(), kObjIgnoredStatements.end(), keyword) ==
+                   kObjIgnoredStatements.end()) {
       return "line " + std::to_string(line_number) + ": unsupported statement '" +
              keyword.substr(0, 20) + "'";
     }
