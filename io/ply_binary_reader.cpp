@@ -2,9 +2,11 @@
 
 #include "io/ply_header.h"
 
+#include <algorithm>
 #include <bit>
 #include <cstdint>
 #include <cstring>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -62,113 +64,168 @@ std::int64_t as_integer(const unsigned char* p, Type t, bool swap) {
 
 constexpr std::uint64_t kProgressStep = 1 << 16;  // faces between progress reports
 
-}  // namespace
-
-std::optional<Result<Scene>> read_binary_ply(std::string_view file, const ProgressCallback& progress) {
-  const std::optional<ply::Header> header = ply::read_header(file);
-  if (!header) return std::nullopt;
-  const std::string& format = header->format;
-  const std::vector<ply::Element>& elements = header->elements;
-  std::size_t pos = header->data;
-  if (format != "binary_little_endian" && format != "binary_big_endian") return std::nullopt;
-  const bool swap = (format == "binary_big_endian") != (std::endian::native == std::endian::big);
-
-  // The layouts taken: "vertex" of scalars with x, y, z; then "face" with one integer list
-  // "vertex_indices" (or "vertex_index") and scalars. Other elements only of scalars.
+// What the fast path reads, found in the header: the "vertex" and "face" elements, where x, y, z
+// lie in a vertex entry and their types, and which of the face's properties is its index list.
+struct Layout {
   const ply::Element* vertex = nullptr;
   const ply::Element* face = nullptr;
-  for (const ply::Element& e : elements) {
-    if (e.name == "vertex") {
-      if (vertex || face || e.has_list) return std::nullopt;
-      vertex = &e;
-    } else if (e.name == "face") {
-      if (face || !vertex) return std::nullopt;
-      face = &e;
-    } else if (e.has_list) {
-      return std::nullopt;
-    }
-  }
-  if (!vertex || !face || vertex->count == 0 || face->count == 0) return std::nullopt;
   std::size_t offset[3] = {0, 0, 0};
   Type coordinate[3] = {Type::None, Type::None, Type::None};
-  for (std::size_t at = 0; const ply::Property& p : vertex->properties) {
+  std::size_t index_property = 0;
+};
+
+// The layouts taken: "vertex" of scalars; then "face"; other elements only of scalars. Both must
+// have entries. False for any other layout.
+bool find_vertex_and_face(const std::vector<ply::Element>& elements, Layout& layout) {
+  for (const ply::Element& e : elements) {
+    if (e.name == "vertex") {
+      if (layout.vertex || layout.face || e.has_list) return false;
+      layout.vertex = &e;
+    } else if (e.name == "face") {
+      if (layout.face || !layout.vertex) return false;
+      layout.face = &e;
+    } else if (e.has_list) {
+      return false;
+    }
+  }
+  return layout.vertex && layout.face && layout.vertex->count != 0 && layout.face->count != 0;
+}
+
+// x, y, z in a vertex entry (the last property of each name wins); false unless all three are
+// float or double.
+bool find_coordinates(const ply::Element& vertex, Layout& layout) {
+  for (std::size_t at = 0; const ply::Property& p : vertex.properties) {
     for (int k = 0; k < 3; ++k) {
-      if (p.name == std::string(1, static_cast<char>('x' + k))) offset[k] = at, coordinate[k] = p.type;
+      if (p.name == std::string(1, static_cast<char>('x' + k))) layout.offset[k] = at, layout.coordinate[k] = p.type;
     }
     at += size_of(p.type);
   }
-  for (const Type t : coordinate) {
-    if (t != Type::F32 && t != Type::F64) return std::nullopt;
+  for (const Type t : layout.coordinate) {
+    if (t != Type::F32 && t != Type::F64) return false;
   }
-  int index_property = -1;
-  for (std::size_t i = 0; i < face->properties.size(); ++i) {
-    const ply::Property& p = face->properties[i];
+  return true;
+}
+
+// The face's one list, "vertex_indices" (or "vertex_index") of integers, among scalars; nullopt
+// for no list, a second list, or a list of another name or item type.
+std::optional<std::size_t> index_list_of(const ply::Element& face) {
+  std::optional<std::size_t> found;
+  for (std::size_t i = 0; i < face.properties.size(); ++i) {
+    const ply::Property& p = face.properties[i];
     if (p.count_type == Type::None) continue;
-    if (index_property >= 0 || (p.name != "vertex_indices" && p.name != "vertex_index") || !is_integer(p.type)) {
+    if (found || (p.name != "vertex_indices" && p.name != "vertex_index") || !is_integer(p.type)) {
       return std::nullopt;
     }
-    index_property = static_cast<int>(i);
+    found = i;
   }
-  if (index_property < 0) return std::nullopt;
+  return found;
+}
 
-  const auto* bytes = reinterpret_cast<const unsigned char*>(file.data());
-  const std::size_t size = file.size();
-  const auto truncated = [](const std::string& where) { return Result<Scene>(fail("the data ends inside " + where)); };
+std::optional<Layout> layout_of(const std::vector<ply::Element>& elements) {
+  Layout layout;
+  if (!find_vertex_and_face(elements, layout) || !find_coordinates(*layout.vertex, layout)) return std::nullopt;
+  const std::optional<std::size_t> list = index_list_of(*layout.face);
+  if (!list) return std::nullopt;
+  layout.index_property = *list;
+  return layout;
+}
+
+// The data section as the reader walks it; every read checks what is left first.
+struct Cursor {
+  const unsigned char* bytes = nullptr;
+  std::size_t size = 0;
+  std::size_t pos = 0;
+  bool swap = false;
+  [[nodiscard]] std::size_t left() const { return size - pos; }
+};
+
+std::unexpected<Error> truncated(const std::string& where) { return fail("the data ends inside " + where); }
+
+// The vertex positions; the scalar elements before "face" other than "vertex" skipped by size.
+Result<std::vector<glm::vec3>> read_points(const std::vector<ply::Element>& elements, const Layout& layout, Cursor& in) {
   std::vector<glm::vec3> points;
   for (const ply::Element& e : elements) {
-    if (&e == face) break;
-    if (&e != vertex) {
-      if (e.count > (size - pos) / std::max<std::size_t>(1, e.scalar_bytes)) return truncated("element '" + e.name + "'");
-      pos += e.count * e.scalar_bytes;
+    if (&e == layout.face) break;
+    if (&e != layout.vertex) {
+      if (e.count > in.left() / std::max<std::size_t>(1, e.scalar_bytes)) return truncated("element '" + e.name + "'");
+      in.pos += e.count * e.scalar_bytes;
       continue;
     }
-    if (e.scalar_bytes == 0 || e.count > (size - pos) / e.scalar_bytes) return truncated("element 'vertex'");
+    if (e.scalar_bytes == 0 || e.count > in.left() / e.scalar_bytes) return truncated("element 'vertex'");
     points.resize(e.count);
-    for (std::uint64_t v = 0; v < e.count; ++v, pos += e.scalar_bytes) {
-      const unsigned char* p = bytes + pos;
+    for (std::uint64_t v = 0; v < e.count; ++v, in.pos += e.scalar_bytes) {
+      const unsigned char* p = in.bytes + in.pos;
       // CGAL reads a double, then exao rounds it to float: the same floats either way.
-      points[v] = glm::vec3(static_cast<float>(as_double(p + offset[0], coordinate[0], swap)),
-                            static_cast<float>(as_double(p + offset[1], coordinate[1], swap)),
-                            static_cast<float>(as_double(p + offset[2], coordinate[2], swap)));
+      points[v] = glm::vec3(static_cast<float>(as_double(p + layout.offset[0], layout.coordinate[0], in.swap)),
+                            static_cast<float>(as_double(p + layout.offset[1], layout.coordinate[1], in.swap)),
+                            static_cast<float>(as_double(p + layout.offset[2], layout.coordinate[2], in.swap)));
     }
   }
+  return points;
+}
 
-  Scene scene;
-  scene.vertices.reserve(3 * face->count + Scene::kVertexPadding);
-  scene.two_sided.reserve(face->count);
-  scene.material.reserve(face->count);
-  const std::size_t count_size = size_of(face->properties[static_cast<std::size_t>(index_property)].count_type);
-  const Type count_type = face->properties[static_cast<std::size_t>(index_property)].count_type;
-  const Type index_type = face->properties[static_cast<std::size_t>(index_property)].type;
-  const std::size_t index_size = size_of(index_type);
-  std::size_t before = 0, after = 0;  // scalar bytes before and after the list
-  for (std::size_t i = 0; i < face->properties.size(); ++i) {
-    if (static_cast<int>(i) == index_property) continue;
-    (static_cast<int>(i) < index_property ? before : after) += size_of(face->properties[i].type);
+// A face entry's bytes: scalars before the index list, its count and item types, scalars after.
+struct FaceEntry {
+  Type count_type = Type::None;
+  std::size_t count_size = 0;
+  Type index_type = Type::None;
+  std::size_t index_size = 0;
+  std::size_t before = 0, after = 0;
+};
+
+FaceEntry face_entry_of(const ply::Element& face, std::size_t index_property) {
+  FaceEntry entry;
+  entry.count_type = face.properties[index_property].count_type;
+  entry.count_size = size_of(entry.count_type);
+  entry.index_type = face.properties[index_property].type;
+  entry.index_size = size_of(entry.index_type);
+  for (std::size_t i = 0; i < face.properties.size(); ++i) {
+    if (i == index_property) continue;
+    (i < index_property ? entry.before : entry.after) += size_of(face.properties[i].type);
   }
+  return entry;
+}
+
+// Face entry `f` (from 0) into `polygon`, each index checked against the `vertex_count` vertices.
+Result<void> read_polygon(Cursor& in, const FaceEntry& entry, std::uint64_t f, std::size_t vertex_count,
+                          std::vector<std::size_t>& polygon) {
+  if (in.left() < entry.before + entry.count_size) return truncated("element 'face' entry " + std::to_string(f));
+  in.pos += entry.before;
+  const std::int64_t n = as_integer(in.bytes + in.pos, entry.count_type, in.swap);
+  in.pos += entry.count_size;
+  if (n < 0 || static_cast<std::uint64_t>(n) > in.left() / entry.index_size) {
+    return fail("element 'face' entry " + std::to_string(f) + ": a list of " + std::to_string(n) +
+                " items does not fit in the " + std::to_string(in.left()) + " bytes left");
+  }
+  polygon.resize(static_cast<std::size_t>(n));
+  for (std::int64_t k = 0; k < n; ++k, in.pos += entry.index_size) {
+    // As CGAL stores it: the index converted to size_t (a negative one wraps, and is refused).
+    const auto v = static_cast<std::size_t>(as_integer(in.bytes + in.pos, entry.index_type, in.swap));
+    if (v >= vertex_count) {
+      return fail("face " + std::to_string(f + 1) + " refers to vertex " + std::to_string(static_cast<long long>(v)) +
+                  ", file has " + std::to_string(vertex_count));
+    }
+    polygon[static_cast<std::size_t>(k)] = v;
+  }
+  if (in.left() < entry.after) return truncated("element 'face' entry " + std::to_string(f));
+  in.pos += entry.after;
+  return {};
+}
+
+// The faces as two-sided triangles; faces of fewer than 3 corners skipped and counted in a note.
+Result<Scene> read_faces(const ply::Element& face, std::size_t index_property, const std::vector<glm::vec3>& points,
+                         Cursor& in, const ProgressCallback& progress) {
+  Scene scene;
+  scene.vertices.reserve(3 * face.count + Scene::kVertexPadding);
+  scene.two_sided.reserve(face.count);
+  scene.material.reserve(face.count);
+  const FaceEntry entry = face_entry_of(face, index_property);
   std::size_t too_small = 0;
   std::vector<std::size_t> polygon;
-  for (std::uint64_t f = 0; f < face->count; ++f) {
-    if (size - pos < before + count_size) return truncated("element 'face' entry " + std::to_string(f));
-    pos += before;
-    const std::int64_t n = as_integer(bytes + pos, count_type, swap);
-    pos += count_size;
-    if (n < 0 || static_cast<std::uint64_t>(n) > (size - pos) / index_size) {
-      return Result<Scene>(fail("element 'face' entry " + std::to_string(f) + ": a list of " + std::to_string(n) +
-                                " items does not fit in the " + std::to_string(size - pos) + " bytes left"));
+  for (std::uint64_t f = 0; f < face.count; ++f) {
+    if (Result<void> read = read_polygon(in, entry, f, points.size(), polygon); !read) {
+      return std::unexpected(std::move(read.error()));
     }
-    polygon.resize(static_cast<std::size_t>(n));
-    for (std::int64_t k = 0; k < n; ++k, pos += index_size) {
-      // As CGAL stores it: the index converted to size_t (a negative one wraps, and is refused).
-      const auto v = static_cast<std::size_t>(as_integer(bytes + pos, index_type, swap));
-      if (v >= points.size()) {
-        return Result<Scene>(fail("face " + std::to_string(f + 1) + " refers to vertex " +
-                                  std::to_string(static_cast<long long>(v)) + ", file has " + std::to_string(points.size())));
-      }
-      polygon[static_cast<std::size_t>(k)] = v;
-    }
-    if (size - pos < after) return truncated("element 'face' entry " + std::to_string(f));
-    pos += after;
     if (polygon.size() < 3) {
       ++too_small;
       continue;
@@ -177,12 +234,29 @@ std::optional<Result<Scene>> read_binary_ply(std::string_view file, const Progre
     for (std::size_t k = 1; k + 1 < polygon.size(); ++k) {
       scene.add_triangle(points[polygon[0]], points[polygon[k]], points[polygon[k + 1]], true, -1);
     }
-    if (progress && (f + 1) % kProgressStep == 0) progress(pos, size);
+    if (progress && (f + 1) % kProgressStep == 0) progress(in.pos, in.size);
   }
-  if (progress) progress(size, size);
+  if (progress) progress(in.size, in.size);
   if (too_small > 0) scene.report.notes.push_back(std::to_string(too_small) + " faces with fewer than 3 vertices skipped");
-  if (scene.triangle_count() == 0) return Result<Scene>(fail("no triangles"));
-  return Result<Scene>(std::move(scene));
+  if (scene.triangle_count() == 0) return fail("no triangles");
+  return scene;
+}
+
+}  // namespace
+
+std::optional<Result<Scene>> read_binary_ply(std::string_view file, const ProgressCallback& progress) {
+  const std::optional<ply::Header> header = ply::read_header(file);
+  if (!header) return std::nullopt;
+  const std::string& format = header->format;
+  if (format != "binary_little_endian" && format != "binary_big_endian") return std::nullopt;
+  const bool swap = (format == "binary_big_endian") != (std::endian::native == std::endian::big);
+  const std::optional<Layout> layout = layout_of(header->elements);
+  if (!layout) return std::nullopt;
+
+  Cursor in{reinterpret_cast<const unsigned char*>(file.data()), file.size(), header->data, swap};
+  const Result<std::vector<glm::vec3>> points = read_points(header->elements, *layout, in);
+  if (!points) return Result<Scene>(std::unexpected(points.error()));
+  return read_faces(*layout->face, layout->index_property, *points, in, progress);
 }
 
 }  // namespace exao

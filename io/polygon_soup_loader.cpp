@@ -201,61 +201,47 @@ std::optional<Result<Scene>> read_directly(const std::string& path, const std::s
   return read_ascii_ply(file, progress.parsing());
 }
 
-Result<Scene> load(const std::string& path, const ProgressCallback& progress, SoupPath reader) {
-  if (const std::string problem = not_a_regular_file(path); !problem.empty()) return fail(problem);
-  const std::string ext = lowercase_extension(path);
-  if (ext != ".obj" && ext != ".ply" && ext != ".off" && ext != ".stl") {
-    return fail("not an OBJ, PLY, OFF or STL file");
-  }
-
+// The fast paths (SoupPath::Fast): OBJ and OFF from the mapped file, PLY and STL from one read;
+// nullopt for a file none of them takes.
+std::optional<Result<Scene>> read_fast(const std::string& path, const std::string& ext, const ProgressCallback& progress) {
   // (A file that does not map, or that the OBJ or OFF fast path does not take, is CGAL's to read
   // or refuse, after OFF's pre-scan.)
-  if ((ext == ".obj" || ext == ".off") && reader == SoupPath::Fast) {
+  if (ext == ".obj" || ext == ".off") {
     const MappedFile file(path);
-    if (file.ok()) {
-      std::optional<Result<Scene>> scene =
-          ext == ".obj" ? read_ascii_obj(file.bytes(), progress) : read_ascii_off(file.bytes(), progress);
-      if (scene) return std::move(*scene);
-    }
+    if (!file.ok()) return std::nullopt;
+    return ext == ".obj" ? read_ascii_obj(file.bytes(), progress) : read_ascii_off(file.bytes(), progress);
   }
   // CGAL's OFF and PLY readers trust the counts a file states (io/soup_prescan.h).
-  if ((ext == ".ply" || ext == ".stl") && reader == SoupPath::Fast) {
-    if (std::optional<Result<Scene>> scene = read_directly(path, ext, LoadProgress{progress})) return std::move(*scene);
-  }
-  // (The fast path has run PLY's pre-scan already.)
-  const std::string problem = ext == ".off"                                ? off_problem(path)
-                              : ext == ".ply" && reader == SoupPath::Cgal ? ply_problem(path)
-                                                                          : std::string();
-  if (!problem.empty()) return fail(problem);
+  return read_directly(path, ext, LoadProgress{progress});
+}
 
-  std::vector<Point> points;
-  std::vector<Polygon> polygons;
-  const bool ok =
-      read_with_cgal(path, ext, points, polygons, progress);
-  if (!ok) {
-    if (ext == ".obj") return fail(explain_obj_failure(path));
-    std::string format = ext.substr(1);
-    for (char& c : format) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-    if (points.empty() || polygons.empty()) {
-      return fail("not a readable " + format + " file, or it has no faces");
-    }
-    return fail("not a readable " + format + " file");
-  }
+// Why CGAL refused the file, as far as exao can tell: for OBJ the first reason in CGAL's terms,
+// for the others the format, and whether CGAL had read any points and faces at all.
+std::string cgal_refusal(const std::string& path, const std::string& ext, bool nothing_read) {
+  if (ext == ".obj") return explain_obj_failure(path);
+  std::string format = ext.substr(1);
+  for (char& c : format) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  if (nothing_read) return "not a readable " + format + " file, or it has no faces";
+  return "not a readable " + format + " file";
+}
 
-  // CGAL checks OBJ indices loosely (one past the end passes) and PLY/OFF indices not at all.
-  const std::size_t vertex_count = points.size();
-  // OBJ numbers vertices from 1; the other formats from 0. Errors quote the file's numbering.
-  const long long base = ext == ".obj" ? 1 : 0;
+// The first face index past the `vertex_count` vertices, as an error quoting the file's
+// numbering (its first vertex is `base`); empty when every index is in range. CGAL checks OBJ
+// indices loosely (one past the end passes) and PLY/OFF indices not at all.
+std::string index_problem(const std::vector<Polygon>& polygons, std::size_t vertex_count, long long base) {
   for (std::size_t f = 0; f < polygons.size(); ++f) {
     for (const std::size_t v : polygons[f]) {
       if (v >= vertex_count) {
-        return fail("face " + std::to_string(f + 1) + " refers to vertex " +
-                    std::to_string(static_cast<long long>(v) + base) + ", file has " +
-                    std::to_string(vertex_count));
+        return "face " + std::to_string(f + 1) + " refers to vertex " + std::to_string(static_cast<long long>(v) + base) +
+               ", file has " + std::to_string(vertex_count);
       }
     }
   }
+  return {};
+}
 
+// The polygons as two-sided triangles; polygons of fewer than 3 corners skipped and counted.
+Result<Scene> scene_of(const std::vector<Point>& points, const std::vector<Polygon>& polygons) {
   Scene scene;
   std::size_t too_small = 0;
   std::size_t triangles = 0;
@@ -267,8 +253,7 @@ Result<Scene> load(const std::string& path, const ProgressCallback& progress, So
   scene.material.reserve(triangles);
   const auto at = [&](std::size_t i) {
     const Point& p = points[i];
-    return glm::vec3(static_cast<float>(p.x()), static_cast<float>(p.y()),
-                     static_cast<float>(p.z()));
+    return glm::vec3(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
   };
   for (const Polygon& polygon : polygons) {
     if (polygon.size() < 3) {
@@ -281,12 +266,37 @@ Result<Scene> load(const std::string& path, const ProgressCallback& progress, So
       scene.add_triangle(first, at(polygon[k]), at(polygon[k + 1]), true, -1);
     }
   }
-  if (too_small > 0) {
-    scene.report.notes.push_back(std::to_string(too_small) +
-                                 " faces with fewer than 3 vertices skipped");
-  }
+  if (too_small > 0) scene.report.notes.push_back(std::to_string(too_small) + " faces with fewer than 3 vertices skipped");
   if (scene.triangle_count() == 0) return fail("no triangles");
   return scene;
+}
+
+Result<Scene> load(const std::string& path, const ProgressCallback& progress, SoupPath reader) {
+  if (const std::string problem = not_a_regular_file(path); !problem.empty()) return fail(problem);
+  const std::string ext = lowercase_extension(path);
+  if (ext != ".obj" && ext != ".ply" && ext != ".off" && ext != ".stl") {
+    return fail("not an OBJ, PLY, OFF or STL file");
+  }
+  if (reader == SoupPath::Fast) {
+    if (std::optional<Result<Scene>> scene = read_fast(path, ext, progress)) return std::move(*scene);
+  }
+  // (The fast path has run PLY's pre-scan already.)
+  const std::string problem = ext == ".off"                                ? off_problem(path)
+                              : ext == ".ply" && reader == SoupPath::Cgal ? ply_problem(path)
+                                                                          : std::string();
+  if (!problem.empty()) return fail(problem);
+
+  std::vector<Point> points;
+  std::vector<Polygon> polygons;
+  if (!read_with_cgal(path, ext, points, polygons, progress)) {
+    return fail(cgal_refusal(path, ext, points.empty() || polygons.empty()));
+  }
+  // OBJ numbers vertices from 1; the other formats from 0. Errors quote the file's numbering.
+  const long long base = ext == ".obj" ? 1 : 0;
+  if (const std::string bad_index = index_problem(polygons, points.size(), base); !bad_index.empty()) {
+    return fail(bad_index);
+  }
+  return scene_of(points, polygons);
 }
 
 }  // namespace

@@ -4,7 +4,9 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <optional>
 #include <sstream>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -132,6 +134,103 @@ std::string ply_body_problem_ascii(std::string_view body, const std::vector<PlyE
           if (next().empty()) return {};
         }
       }
+    }
+  }
+  return {};
+}
+
+// What a step of the PLY pre-scan decides: nullopt to read on; otherwise the string for
+// ply_problem_in to return (empty when the pre-scan sees no problem and leaves CGAL to judge).
+using PlyVerdict = std::optional<std::string>;
+
+// A PLY header as the pre-scan reads it.
+struct PlyHeaderScan {
+  std::string format;
+  std::vector<PlyElement> elements;
+  std::size_t data = 0;  // the first byte after the end_header line
+};
+
+// A "property" line's words after its keyword (`iss`), added to the last element.
+PlyVerdict read_ply_property(std::istringstream& iss, const std::string& where, std::vector<PlyElement>& elements) {
+  if (elements.empty()) return where + ": property before any element";
+  PlyProperty property;
+  std::string type;
+  iss >> type;
+  if (type == "list") {
+    std::string count_type, item_type;
+    iss >> count_type >> item_type;
+    property.list = true;
+    property.count_size = ply_type_size(count_type, &property.count_signed);
+    property.size = ply_type_size(item_type);
+    if (property.count_size == 0 || property.size == 0) return std::string();  // CGAL judges unknown types
+  } else {
+    property.size = ply_type_size(type);
+    if (property.size == 0) return std::string();
+  }
+  // CGAL's point reader takes a vertex's x, y and z as a float or a double property and
+  // dereferences a null pointer for any other (PLY_element::assign(double&)).
+  std::string name;
+  iss >> name;
+  const std::string& element = elements.back().name;
+  const bool real = !property.list && (type == "float" || type == "float32" || type == "double" || type == "float64");
+  if ((element == "vertex" || element == "vertices") && (name == "x" || name == "y" || name == "z") && !real) {
+    return where + ": vertex coordinate '" + name + "' is " + (property.list ? "a list" : type) +
+           " (float or double expected)";
+  }
+  elements.back().properties.push_back(property);
+  return std::nullopt;
+}
+
+// The header of the PLY whose bytes are `file`, line by line up to end_header, into `header`;
+// nullopt once end_header is read.
+PlyVerdict read_ply_header(std::string_view file, PlyHeaderScan& header) {
+  std::size_t& pos = header.data;
+  // A real header is a few dozen lines; this bounds the scan of a file that has no end_header.
+  constexpr std::size_t kMaxHeaderLines = 10'000;
+  for (std::size_t number = 1; number <= kMaxHeaderLines && pos < file.size(); ++number) {
+    const std::size_t eol = file.find('\n', pos);
+    std::string line(file.substr(pos, eol == std::string::npos ? std::string::npos : eol - pos));
+    pos = eol == std::string::npos ? file.size() : eol + 1;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    std::istringstream iss(line);
+    std::string keyword;
+    iss >> keyword;
+    const std::string where = "header line " + std::to_string(number);
+    if (number == 1) {
+      if (keyword != "ply") return "not a PLY file (no 'ply' signature)";
+    } else if (number == 2) {
+      if (keyword != "format") return where + ": expected 'format'";
+      iss >> header.format;
+    } else if (keyword == "element") {
+      PlyElement element;
+      std::string count;
+      iss >> element.name >> count;
+      if (!parse_count(count, element.count)) return where + ": element count '" + count.substr(0, 20) + "' is not a count";
+      header.elements.push_back(std::move(element));
+    } else if (keyword == "property") {
+      if (PlyVerdict verdict = read_ply_property(iss, where, header.elements)) return verdict;
+    } else if (keyword == "end_header") {
+      return std::nullopt;
+    }
+  }
+  return "PLY header has no end_header";
+}
+
+// Every entry of an element takes at least one byte per ASCII value, or its scalars' and list
+// counts' bytes in binary: the stated counts must fit in the `left` bytes after the header.
+// Empty when they do.
+std::string ply_count_problem(const std::vector<PlyElement>& elements, bool ascii, std::size_t left) {
+  long double needed = 0.0L;
+  for (const PlyElement& e : elements) {
+    if (e.count > 0 && e.properties.empty()) {
+      return "element '" + e.name + "' has " + std::to_string(e.count) + " entries but no properties";
+    }
+    std::size_t smallest = 0;
+    for (const PlyProperty& p : e.properties) smallest += ascii ? 1 : static_cast<std::size_t>(p.list ? p.count_size : p.size);
+    needed += static_cast<long double>(e.count) * static_cast<long double>(smallest);
+    if (needed > static_cast<long double>(left)) {
+      return "element '" + e.name + "' count " + std::to_string(e.count) + " does not fit in the " +
+             std::to_string(left) + " bytes after the header";
     }
   }
   return {};
@@ -288,89 +387,15 @@ std::string ply_problem(const std::string& path) {
 }
 
 std::string ply_problem_in(std::string_view file) {
-  std::size_t pos = 0;
-  bool element_seen = false;
-  bool end_seen = false;
-  std::string format;
-  std::vector<PlyElement> elements;
-  // A real header is a few dozen lines; this bounds the scan of a file that has no end_header.
-  constexpr std::size_t kMaxHeaderLines = 10'000;
-  for (std::size_t number = 1; number <= kMaxHeaderLines && pos < file.size(); ++number) {
-    const std::size_t eol = file.find('\n', pos);
-    std::string line(file.substr(pos, eol == std::string::npos ? std::string::npos : eol - pos));
-    pos = eol == std::string::npos ? file.size() : eol + 1;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    std::istringstream iss(line);
-    std::string keyword;
-    iss >> keyword;
-    const std::string where = "header line " + std::to_string(number);
-    if (number == 1) {
-      if (keyword != "ply") return "not a PLY file (no 'ply' signature)";
-    } else if (number == 2) {
-      if (keyword != "format") return where + ": expected 'format'";
-      iss >> format;
-    } else if (keyword == "element") {
-      element_seen = true;
-      PlyElement element;
-      std::string count;
-      iss >> element.name >> count;
-      if (!parse_count(count, element.count)) return where + ": element count '" + count.substr(0, 20) + "' is not a count";
-      elements.push_back(std::move(element));
-    } else if (keyword == "property") {
-      if (!element_seen) return where + ": property before any element";
-      PlyProperty property;
-      std::string type;
-      iss >> type;
-      if (type == "list") {
-        std::string count_type, item_type;
-        iss >> count_type >> item_type;
-        property.list = true;
-        property.count_size = ply_type_size(count_type, &property.count_signed);
-        property.size = ply_type_size(item_type);
-        if (property.count_size == 0 || property.size == 0) return {};  // CGAL judges unknown types
-      } else {
-        property.size = ply_type_size(type);
-        if (property.size == 0) return {};
-      }
-      // CGAL's point reader takes a vertex's x, y and z as a float or a double property and
-      // dereferences a null pointer for any other (PLY_element::assign(double&)).
-      std::string name;
-      iss >> name;
-      const std::string& element = elements.back().name;
-      const bool real = !property.list && (type == "float" || type == "float32" || type == "double" || type == "float64");
-      if ((element == "vertex" || element == "vertices") && (name == "x" || name == "y" || name == "z") && !real) {
-        return where + ": vertex coordinate '" + name + "' is " + (property.list ? "a list" : type) +
-               " (float or double expected)";
-      }
-      elements.back().properties.push_back(property);
-    } else if (keyword == "end_header") {
-      end_seen = true;
-      break;
-    }
-  }
-  if (!end_seen) return "PLY header has no end_header";
-  const bool ascii = format == "ascii";
-  if (!ascii && format != "binary_little_endian" && format != "binary_big_endian") return {};
-
-  // Every entry of an element takes at least one byte per ASCII value, or its scalars' and list
-  // counts' bytes in binary: the stated counts must fit in what follows the header.
-  const std::size_t left = file.size() - pos;
-  long double needed = 0.0L;
-  for (const PlyElement& e : elements) {
-    if (e.count > 0 && e.properties.empty()) {
-      return "element '" + e.name + "' has " + std::to_string(e.count) + " entries but no properties";
-    }
-    std::size_t smallest = 0;
-    for (const PlyProperty& p : e.properties) smallest += ascii ? 1 : static_cast<std::size_t>(p.list ? p.count_size : p.size);
-    needed += static_cast<long double>(e.count) * static_cast<long double>(smallest);
-    if (needed > static_cast<long double>(left)) {
-      return "element '" + e.name + "' count " + std::to_string(e.count) + " does not fit in the " +
-             std::to_string(left) + " bytes after the header";
-    }
-  }
-  const std::string_view body = file.substr(pos);
-  return ascii ? ply_body_problem_ascii(body, elements)
-               : ply_body_problem_binary(body, elements, format == "binary_big_endian");
+  PlyHeaderScan header;
+  if (PlyVerdict verdict = read_ply_header(file, header)) return *std::move(verdict);
+  const bool ascii = header.format == "ascii";
+  if (!ascii && header.format != "binary_little_endian" && header.format != "binary_big_endian") return {};
+  const std::size_t left = file.size() - header.data;
+  if (std::string problem = ply_count_problem(header.elements, ascii, left); !problem.empty()) return problem;
+  const std::string_view body = file.substr(header.data);
+  return ascii ? ply_body_problem_ascii(body, header.elements)
+               : ply_body_problem_binary(body, header.elements, header.format == "binary_big_endian");
 }
 
 std::string off_problem(const std::string& path) {
