@@ -138,6 +138,51 @@ template <class L>
   return result;
 }
 
+// Step 6a of the pure set-up for lanes l..l+7: the cone of the clip sphere, whose centre is
+// (cx, cy, cz) in the receiver frame, world units.
+template <class L>
+[[gnu::always_inline]] inline void pure_cone(const LeafBlock& leaf, int l, typename L::F cx, typename L::F cy,
+                                             typename L::F cz, typename L::F inv_r, LeafSetup& out) {
+  using F = typename L::F;
+  const F zero = L::set(0.0f), one = L::set(1.0f);
+  const F cnx = L::mul(cx, inv_r), cny = L::mul(cy, inv_r), cnz = L::mul(cz, inv_r);
+  const F len = L::sqrt(dot3<L>(cnx, cny, cnz, cnx, cny, cnz));
+  const F grown = L::mul(L::add(L::mul(L::load(leaf.radius + l), inv_r), L::mul(L::set(kTriangleMargin), len)),
+                         L::set(1.0f + 1e-5f));
+  const F sine = L::mul(L::div(grown, len), L::set(1.0f + 1e-5f));
+  const auto cone = L::both(L::gt(len, grown), L::lt(sine, L::set(0.999f)));
+  L::store(out.axis_x + l, L::select(cone, L::div(cnx, len), zero));
+  L::store(out.axis_y + l, L::select(cone, L::div(cny, len), zero));
+  L::store(out.axis_z + l, L::select(cone, L::div(cnz, len), zero));
+  L::store(out.sine + l, sine);
+  L::store(out.cosine + l,
+           L::select(cone, L::mul(L::sqrt(L::sub(one, L::mul(sine, sine))), L::set(1.0f - 1e-6f)), L::set(-1.0f)));
+  out.use_cone |= static_cast<std::uint32_t>(L::bits(cone)) << l;
+}
+
+// Step 6a of the certain set-up: the sphere grown by g (make_sphere_test's expressions), none
+// below the horizon (the lanes it culls are false in the result), all when the origin is inside,
+// else a cone when narrow enough.
+template <class L>
+[[nodiscard, gnu::always_inline]] inline typename L::M certain_cone(const LeafBlock& leaf, int l, typename L::F cx,
+                                                                    typename L::F cy, typename L::F cz, float g_world,
+                                                                    LeafSetup& out) {
+  using F = typename L::F;
+  const F one = L::set(1.0f), big = L::set(std::numeric_limits<float>::max());
+  const F len = L::sqrt(dot3<L>(cx, cy, cz, cx, cy, cz));
+  const F grown = L::mul(L::add(L::add(L::load(leaf.radius + l), L::set(g_world)), L::mul(L::set(kTriangleMargin), len)),
+                         L::set(1.0f + 1e-6f));
+  const auto rays = L::both(L::both(L::le(len, big), L::le(grown, big)), L::gt(len, L::mul(grown, L::set(1.0f + 1e-6f))));
+  const F sine = L::mul(L::div(grown, len), L::set(1.0f + 1e-5f));
+  const auto cone = L::both(rays, L::lt(sine, L::set(0.999f)));
+  L::store(out.axis_x + l, L::div(cx, len)), L::store(out.axis_y + l, L::div(cy, len));
+  L::store(out.axis_z + l, L::div(cz, len));
+  L::store(out.sine + l, sine);
+  L::store(out.cosine + l, L::mul(L::sqrt(L::sub(one, L::mul(sine, sine))), L::set(1.0f - 1e-6f)));
+  out.use_cone |= static_cast<std::uint32_t>(L::bits(cone)) << l;
+  return L::not_(L::both(rays, L::lt(cz, L::neg(grown))));
+}
+
 // The set-up of every triangle of `leaf` at the receiver of `frame`; returns the live lanes
 // (bit l: triangle l may block a ray). g_world (certain only) is 2 delta in world units.
 template <bool Certain>
@@ -220,36 +265,10 @@ template <bool Certain>
       }
       L::store(out.widen + l, L::mul(g_over_d, L::set(1.0f + 1e-5f)));
       out.flat |= static_cast<std::uint32_t>(L::bits(flat)) << l;
-      // 6a. The sphere grown by g (make_sphere_test's expressions): none below the horizon,
-      //     all when the origin is inside, else a cone when narrow enough.
-      const F len = L::sqrt(dot3<L>(ccx, ccy, ccz, ccx, ccy, ccz));
-      const F grown = L::mul(L::add(L::add(L::load(leaf.radius + l), L::set(g_world)), L::mul(L::set(kTriangleMargin), len)),
-                             L::set(1.0f + 1e-6f));
-      const auto rays = L::both(L::both(L::le(len, big), L::le(grown, big)), L::gt(len, L::mul(grown, L::set(1.0f + 1e-6f))));
-      ok = L::both(ok, L::not_(L::both(rays, L::lt(ccz, L::neg(grown)))));
-      const F sine = L::mul(L::div(grown, len), L::set(1.0f + 1e-5f));
-      const auto cone = L::both(rays, L::lt(sine, L::set(0.999f)));
-      L::store(out.axis_x + l, L::div(ccx, len)), L::store(out.axis_y + l, L::div(ccy, len));
-      L::store(out.axis_z + l, L::div(ccz, len));
-      L::store(out.sine + l, sine);
-      L::store(out.cosine + l, L::mul(L::sqrt(L::sub(one, L::mul(sine, sine))), L::set(1.0f - 1e-6f)));
-      out.use_cone |= static_cast<std::uint32_t>(L::bits(cone)) << l;
+      ok = L::both(ok, certain_cone<L>(leaf, l, ccx, ccy, ccz, g_world, out));
     } else {
       ok = valid;
-      // 6a. The cone of the clip sphere.
-      const F cnx = L::mul(ccx, inv_r), cny = L::mul(ccy, inv_r), cnz = L::mul(ccz, inv_r);
-      const F len = L::sqrt(dot3<L>(cnx, cny, cnz, cnx, cny, cnz));
-      const F grown = L::mul(L::add(L::mul(L::load(leaf.radius + l), inv_r), L::mul(L::set(kTriangleMargin), len)),
-                             L::set(1.0f + 1e-5f));
-      const F sine = L::mul(L::div(grown, len), L::set(1.0f + 1e-5f));
-      const auto cone = L::both(L::gt(len, grown), L::lt(sine, L::set(0.999f)));
-      L::store(out.axis_x + l, L::select(cone, L::div(cnx, len), zero));
-      L::store(out.axis_y + l, L::select(cone, L::div(cny, len), zero));
-      L::store(out.axis_z + l, L::select(cone, L::div(cnz, len), zero));
-      L::store(out.sine + l, sine);
-      L::store(out.cosine + l,
-               L::select(cone, L::mul(L::sqrt(L::sub(one, L::mul(sine, sine))), L::set(1.0f - 1e-6f)), L::set(-1.0f)));
-      out.use_cone |= static_cast<std::uint32_t>(L::bits(cone)) << l;
+      pure_cone<L>(leaf, l, ccx, ccy, ccz, inv_r, out);
     }
     live |= static_cast<std::uint32_t>(L::bits(ok)) << l;
   }
