@@ -20,31 +20,9 @@
 namespace exao {
 namespace {
 
-void expect_same_result(const Result<Scene>& got, const Result<Scene>& want) {
-  ASSERT_EQ(got.has_value(), want.has_value()) << (got ? want.error().message : got.error().message);
-  if (!want) {
-    EXPECT_EQ(got.error().message, want.error().message);
-    return;
-  }
-  test::expect_same_scene(*got, *want);
-}
-
 // Loads `text` both ways; returns whether the fast path took it.
 bool check(const test::TempDir& dir, const std::string& text) {
-  const std::string path = (dir / "t.off").string();
-  test::write_file(path, text);
-  const Result<Scene> cgal = load_polygon_soup(path, {}, SoupPath::Cgal);
-  const Result<Scene> fast = load_polygon_soup(path);
-  expect_same_result(fast, cgal);
-  const std::optional<Result<Scene>> direct = read_ascii_off(text);
-  if (direct && cgal) {
-    EXPECT_TRUE(direct->has_value());
-    if (direct->has_value()) test::expect_same_scene(**direct, *cgal);
-  }
-  if (direct && !cgal) {
-    EXPECT_FALSE(direct->has_value()) << "the fast path loaded what CGAL refuses";
-  }
-  return direct.has_value();
+  return test::expect_fast_path_as_cgal(dir, "t.off", text, [](const std::string& t) { return read_ascii_off(t); });
 }
 
 // A bumpy grid with quads, a degenerate triangle, a two-corner face and a vertex beyond the
