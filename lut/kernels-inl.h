@@ -194,6 +194,13 @@ inline constexpr float kVectorCost = 0.5f;
   return kNearSetupCost + static_cast<float>(samples) < vector_cost(reached);
 }
 
+// Whether the cone (axis, sine, cos_bound) takes the near path for the clusters of `reached`:
+// it is small enough for the grid (near_cells, which fills `cells`) and cheaper than the vectors.
+[[nodiscard]] inline bool take_near_path(const SampleArrays& s, const glm::vec3& axis, float sine, float cos_bound,
+                                         std::uint64_t reached, NearCells& cells) {
+  return near_may_pay(reached) && near_cells(s, axis, sine, cos_bound, cells) && near_is_cheaper(s, cells, reached);
+}
+
 // Calls f(i) for every sample i of the cells whose cluster is in `allowed`.
 template <class F>
 inline void for_near_samples(const SampleArrays& s, const NearCells& cells, std::uint64_t allowed, F&& f) {
@@ -239,8 +246,7 @@ template <int Bits>
   if (test.kind == SphereTest::Kind::Rays && ctx.cull_clusters && test.cone_sin < 1.0f) {
     clusters &= sphere_reach<Bits>(*ctx.samples, test.axis, test.cone_cos, test.cone_sin, ctx.cluster_slack);
     NearCells cells;
-    if (near_may_pay(clusters) && near_cells(*ctx.samples, test.axis, test.cone_sin, test.cone_cos - ctx.cluster_slack, cells) &&
-        near_is_cheaper(*ctx.samples, cells, clusters)) {
+    if (take_near_path(*ctx.samples, test.axis, test.cone_sin, test.cone_cos - ctx.cluster_slack, clusters, cells)) {
       Mask<Bits> mask;
       int tested = 0;
       for_near_samples(*ctx.samples, cells, clusters, [&](int i) {
@@ -374,8 +380,8 @@ template <int Bits>
       clusters &= sphere_reach<Bits>(*ctx.samples, s.axis, s.cosine, s.sine, ctx.cluster_slack);
     }
     NearCells cells;
-    if (ctx.exact && s.use_cone && near_may_pay(clusters) && near_cells(*ctx.samples, s.axis, s.sine, s.cosine - ctx.cluster_slack, cells) &&
-        near_is_cheaper(*ctx.samples, cells, clusters)) {
+    if (ctx.exact && s.use_cone &&
+        take_near_path(*ctx.samples, s.axis, s.sine, s.cosine - ctx.cluster_slack, clusters, cells)) {
       // 6b for a small cone: the planes on the near samples only.
       Mask<Bits> mask;
       int tested = 0;
@@ -557,9 +563,8 @@ template <int Bits>
                                        ctx.cluster_slack + s.widen);
     }
     NearCells cells;
-    if (!s.flat && s.use_cone && near_may_pay(clusters) &&
-        near_cells(*ctx.samples, s.axis, s.cone_sin, s.cone_cos - ctx.cluster_slack, cells) &&
-        near_is_cheaper(*ctx.samples, cells, clusters)) {
+    if (!s.flat && s.use_cone &&
+        take_near_path(*ctx.samples, s.axis, s.cone_sin, s.cone_cos - ctx.cluster_slack, clusters, cells)) {
       // A small cone: its few candidate samples one by one (the cells' proof above holds for the
       //  grown sphere's cone), with the same expressions as the lanes.
       const SampleArrays& samples = *ctx.samples;
