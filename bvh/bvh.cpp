@@ -25,13 +25,15 @@ struct SetSource {
   [[nodiscard]] std::size_t size() const { return set.size(); }
   [[nodiscard]] glm::vec3 vertex(std::size_t t, int k) const { return k == 0 ? set.v0[t] : k == 1 ? set.v1[t] : set.v2[t]; }
   [[nodiscard]] lut::PackedTriangle packed(std::size_t t) const { return set.packed(t); }
+  [[nodiscard]] bool has_objects() const { return std::any_of(set.object.begin(), set.object.end(), [](std::uint32_t o) { return o != 0; }); }
+  [[nodiscard]] std::uint32_t object(std::size_t t) const { return set.object[t]; }
   [[nodiscard]] std::shared_ptr<const Cutouts> cutouts() const { return set.cutouts; }
   void release() const {}
 };
 
 struct SceneSource {
   const Scene& scene;
-  Scene* owned = nullptr;  // the caller's scene to free once the packed copy is made, or null
+  Scene* owned = nullptr;  // the caller's scene to free once the leaf blocks are made, or null
   [[nodiscard]] std::size_t size() const { return scene.triangle_count(); }
   [[nodiscard]] glm::vec3 vertex(std::size_t t, int k) const { return scene.vertices[3 * t + static_cast<std::size_t>(k)]; }
   [[nodiscard]] lut::PackedTriangle packed(std::size_t t) const {
@@ -45,10 +47,14 @@ struct SceneSource {
     p.object = t < scene.object.size() ? scene.object[t] : 0u;
     return p;
   }
+  [[nodiscard]] bool has_objects() const {
+    return std::any_of(scene.object.begin(), scene.object.end(), [](std::uint32_t o) { return o != 0; });
+  }
+  [[nodiscard]] std::uint32_t object(std::size_t t) const { return t < scene.object.size() ? scene.object[t] : 0u; }
   [[nodiscard]] std::shared_ptr<const Cutouts> cutouts() const {
     return scene.cutouts && scene.cutouts->any() ? scene.cutouts : nullptr;
   }
-  // The packed triangles hold every float the tree needs from here on.
+  // The leaf blocks hold every float the tree needs from here on.
   void release() const {
     if (owned) *owned = Scene{};
   }
@@ -62,9 +68,12 @@ void set_sphere(Node& node, int slot, const Bvh& bvh, std::uint32_t first, std::
                            0.5f * (node.lo_z[slot] + node.hi_z[slot]));
   const glm::dvec3 centre(centre_f);
   double radius = 0.0;
-  for (std::uint32_t i = first; i < last; ++i) {
-    const lut::PackedTriangle& t = bvh.packed[i];
-    radius = std::max(radius, glm::length(glm::dvec3(t.centre) - centre) + double(t.radius));
+  for (std::uint32_t t = first; t < last;) {
+    const LeafBlock block = triangle_block(bvh, t);
+    for (int l = triangle_lane(bvh, t); l < static_cast<int>(block.count) && t < last; ++l, ++t) {
+      const glm::dvec3 c(block.cx[l], block.cy[l], block.cz[l]);
+      radius = std::max(radius, glm::length(c - centre) + double(block.radius[l]));
+    }
   }
   node.centre_x[slot] = centre_f.x;
   node.centre_y[slot] = centre_f.y;
@@ -72,22 +81,36 @@ void set_sphere(Node& node, int slot, const Bvh& bvh, std::uint32_t first, std::
   node.radius[slot] = std::nextafter(static_cast<float>(radius * (1.0 + 1e-6)), INFINITY);
 }
 
-LeafBlock make_block(const Bvh& bvh, std::uint32_t first, int size) {
+// Lane l of the rows at `rows` (of `width` floats each, LeafRow's order).
+void put_lane(float* rows, int width, int l, const glm::vec3& v0, const glm::vec3& v1, const glm::vec3& v2,
+              const glm::vec3& centre, float radius) {
+  const float values[kLeafRows] = {v0.x, v0.y, v0.z, v1.x, v1.y, v1.z, v2.x, v2.y, v2.z, centre.x, centre.y, centre.z, radius};
+  for (int r = 0; r < kLeafRows; ++r) rows[r * width + l] = values[r];
+}
+
+// The rows and flags of the leaf of triangles [first, first + size), from the source's triangles
+// in the tree's order; lanes past the leaf NaN. Returns the largest |coordinate| of its vertices.
+template <class Source>
+float make_leaf(const Source& source, const std::vector<std::uint32_t>& order, std::uint32_t first, int size,
+                float* rows, LeafRecord& record) {
   const float nan = std::numeric_limits<float>::quiet_NaN();
-  LeafBlock block;
-  for (int l = 0; l < LeafBlock::kLanes; ++l) {
-    const bool used = l < size;
-    const lut::PackedTriangle& t = bvh.packed[first + static_cast<std::uint32_t>(used ? l : 0)];
-    const auto put = [&](float* lanes, float value) { lanes[l] = used ? value : nan; };
-    put(block.v0x, t.v0.x), put(block.v0y, t.v0.y), put(block.v0z, t.v0.z);
-    put(block.v1x, t.v1.x), put(block.v1y, t.v1.y), put(block.v1z, t.v1.z);
-    put(block.v2x, t.v2.x), put(block.v2y, t.v2.y), put(block.v2z, t.v2.z);
-    put(block.cx, t.centre.x), put(block.cy, t.centre.y), put(block.cz, t.centre.z);
-    put(block.radius, t.radius);
-    if (used && t.two_sided) block.two_sided |= 1u << l;
-    if (used && t.cutout) block.cutout |= 1u << l;
+  const int width = leaf_width(size);
+  record.first = first;
+  record.count = static_cast<std::uint8_t>(size);
+  float largest = 0.0f;
+  for (int l = 0; l < width; ++l) {
+    if (l >= size) {
+      const glm::vec3 none(nan);
+      put_lane(rows, width, l, none, none, none, none, nan);
+      continue;
+    }
+    const lut::PackedTriangle t = source.packed(order[first + static_cast<std::uint32_t>(l)]);
+    put_lane(rows, width, l, t.v0, t.v1, t.v2, t.centre, t.radius);
+    if (t.two_sided) record.two_sided |= static_cast<std::uint8_t>(1u << l);
+    if (t.cutout) record.cutout |= static_cast<std::uint8_t>(1u << l);
+    for (const glm::vec3& v : {t.v0, t.v1, t.v2}) largest = std::max({largest, std::abs(v.x), std::abs(v.y), std::abs(v.z)});
   }
-  return block;
+  return largest;
 }
 
 template <class Source>
@@ -95,7 +118,7 @@ Result<Bvh> build_from(const Source& source, const BvhOptions& options, const Pr
   const std::size_t n = source.size();
   if (n == 0) return fail("bvh: the scene has no triangles");
   if (auto ok = check_options(options); !ok) return std::unexpected(ok.error());
-  // Progress: the topology reports n (triangles placed in leaves), the packing n more.
+  // Progress: the topology reports n (triangles placed in leaves), the blocks n more.
   const ProgressCallback topology_progress =
       progress ? ProgressCallback([&](std::size_t done, std::size_t) { progress(done, 2 * n); }) : ProgressCallback();
 
@@ -110,59 +133,83 @@ Result<Bvh> build_from(const Source& source, const BvhOptions& options, const Pr
       }
     });
     topology = build_topology(primitives, options, {}, topology_progress);
-  }  // the primitives (32 bytes a triangle) go before the packed triangles come
+  }  // the primitives (32 bytes a triangle) go before the blocks come
   if (!topology) return std::unexpected(topology.error());
 
   Bvh bvh;
   bvh.cutouts = source.cutouts();
   bvh.nodes = std::move(topology->nodes);
   bvh.scene_triangle = std::move(topology->order);
-  bvh.packed.resize(n);
-  std::atomic<std::size_t> packed_count{0};
+  if (source.has_objects()) {
+    bvh.object.resize(n);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kGrain), [&](const tbb::blocked_range<std::size_t>& range) {
+      for (std::size_t i = range.begin(); i != range.end(); ++i) bvh.object[i] = source.object(bvh.scene_triangle[i]);
+    });
+  }
+
+  // One leaf record per leaf in node order, then slot order, and its rows at its offset.
+  std::vector<std::uint32_t> first_leaf(bvh.nodes.size() + 1, 0);
+  std::vector<std::uint64_t> first_float(bvh.nodes.size() + 1, 0);
+  for (std::size_t i = 0; i < bvh.nodes.size(); ++i) {
+    const Node& node = bvh.nodes[i];
+    std::uint32_t leaves = 0;
+    std::uint64_t floats = 0;
+    for (int k = 0; k < node.child_count; ++k) {
+      if (node.leaf_size[k] == 0) continue;
+      ++leaves;
+      floats += static_cast<std::uint64_t>(kLeafRows * leaf_width(node.leaf_size[k]));
+    }
+    first_leaf[i + 1] = first_leaf[i] + leaves;
+    first_float[i + 1] = first_float[i] + floats;
+  }
+  if (first_float.back() > std::numeric_limits<std::uint32_t>::max()) {
+    return fail("bvh: " + std::to_string(n) + " triangles need more leaf floats than 32-bit offsets address");
+  }
+  bvh.leaves.resize(first_leaf.back());
+  bvh.leaf_floats.resize(first_float.back());
+  bvh.leaf_of.assign(n, 0);
+  std::atomic<std::size_t> placed{0};
   bvh.largest_coordinate = tbb::parallel_reduce(
-      tbb::blocked_range<std::size_t>(0, n, kGrain), 0.0f,
+      tbb::blocked_range<std::size_t>(0, bvh.nodes.size(), 256), 0.0f,
       [&](const tbb::blocked_range<std::size_t>& range, float largest) {
+        std::size_t triangles = 0;
         for (std::size_t i = range.begin(); i != range.end(); ++i) {
-          const lut::PackedTriangle p = source.packed(bvh.scene_triangle[i]);
-          bvh.packed[i] = p;
-          for (const glm::vec3& v : {p.v0, p.v1, p.v2}) largest = std::max({largest, std::abs(v.x), std::abs(v.y), std::abs(v.z)});
+          const Node& node = bvh.nodes[i];
+          std::uint32_t leaf = first_leaf[i];
+          auto offset = static_cast<std::uint32_t>(first_float[i]);
+          for (int k = 0; k < node.child_count; ++k) {
+            const int size = node.leaf_size[k];
+            if (size == 0) continue;
+            const std::uint32_t first = node.child[k];
+            LeafRecord& record = bvh.leaves[leaf];
+            record.offset = offset;
+            largest = std::max(largest, make_leaf(source, bvh.scene_triangle, first, size, bvh.leaf_floats.data() + offset, record));
+            for (int l = 0; l < size; ++l) bvh.leaf_of[first + static_cast<std::uint32_t>(l)] = leaf;
+            triangles += static_cast<std::size_t>(size);
+            offset += static_cast<std::uint32_t>(kLeafRows * leaf_width(size));
+            ++leaf;
+          }
         }
-        if (progress) progress(n + (packed_count += range.size()), 2 * n);
+        if (progress) progress(n + (placed += triangles), 2 * n);
         return largest;
       },
       [](float x, float y) { return std::max(x, y); });
   source.release();
 
-  // The node spheres, and one block per leaf in node order, then slot order.
   const std::vector<Topology::SlotRange>& ranges = topology->ranges;
-  std::vector<std::uint32_t> first_block(bvh.nodes.size() + 1, 0);
-  for (std::size_t i = 0; i < bvh.nodes.size(); ++i) {
-    const Node& node = bvh.nodes[i];
-    std::uint32_t leaves = 0;
-    for (int k = 0; k < node.child_count; ++k) leaves += node.leaf_size[k] != 0;
-    first_block[i + 1] = first_block[i] + leaves;
-  }
-  bvh.blocks.resize(first_block.back());
-  bvh.leaf_block.assign(n, 0);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, bvh.nodes.size(), 256), [&](const tbb::blocked_range<std::size_t>& range) {
     for (std::size_t i = range.begin(); i != range.end(); ++i) {
       Node& node = bvh.nodes[i];
-      std::uint32_t block = first_block[i];
-      for (int k = 0; k < node.child_count; ++k) {
-        set_sphere(node, k, bvh, ranges[i].first[k], ranges[i].last[k]);
-        if (node.leaf_size[k] == 0) continue;
-        bvh.leaf_block[node.child[k]] = block;
-        bvh.blocks[block++] = make_block(bvh, node.child[k], node.leaf_size[k]);
-      }
+      for (int k = 0; k < node.child_count; ++k) set_sphere(node, k, bvh, ranges[i].first[k], ranges[i].last[k]);
     }
   });
   return bvh;
 }
 
 // Refit's bottom-up pass over the subtree of node `index`: every child slot gets its box (of its
-// packed triangles' vertices, as the builder's) and sphere (set_sphere, as build's), every leaf
-// its block. Returns the subtree's box and its range [first, last) of packed triangles. The
-// depth is at most 64 (the builder's limit), so recursion is safe.
+// triangles' vertices in the blocks, as the builder's) and sphere (set_sphere, as build's).
+// Returns the subtree's box and its range [first, last) of triangles. The depth is at most 64
+// (the builder's limit), so recursion is safe.
 struct Extent {
   glm::vec3 lo{INFINITY}, hi{-INFINITY};
   std::uint32_t first = UINT32_MAX, last = 0;
@@ -178,13 +225,14 @@ Extent refit_node(Bvh& bvh, std::uint32_t index) {
     } else {
       child.first = node.child[k];
       child.last = node.child[k] + node.leaf_size[k];
-      for (std::uint32_t t = child.first; t < child.last; ++t) {
-        for (const glm::vec3& v : {bvh.packed[t].v0, bvh.packed[t].v1, bvh.packed[t].v2}) {
+      const LeafBlock block = triangle_block(bvh, child.first);
+      for (int l = 0; l < node.leaf_size[k]; ++l) {
+        const lut::PackedTriangle t = block_triangle(block, l);
+        for (const glm::vec3& v : {t.v0, t.v1, t.v2}) {
           child.lo = glm::min(child.lo, v);
           child.hi = glm::max(child.hi, v);
         }
       }
-      bvh.blocks[bvh.leaf_block[node.child[k]]] = make_block(bvh, node.child[k], node.leaf_size[k]);
     }
     node.lo_x[k] = child.lo.x, node.lo_y[k] = child.lo.y, node.lo_z[k] = child.lo.z;
     node.hi_x[k] = child.hi.x, node.hi_y[k] = child.hi.y, node.hi_z[k] = child.hi.z;
@@ -224,27 +272,29 @@ Result<Bvh> Bvh::build(Scene&& scene, const BvhOptions& options, const ProgressC
 BvhBytes memory_bytes(const Bvh& bvh) {
   BvhBytes bytes;
   bytes.nodes = bvh.nodes.capacity() * sizeof(Node);
-  bytes.blocks = bvh.blocks.capacity() * sizeof(LeafBlock);
-  bytes.packed = bvh.packed.capacity() * sizeof(lut::PackedTriangle);
-  bytes.indices = (bvh.scene_triangle.capacity() + bvh.leaf_block.capacity()) * sizeof(std::uint32_t);
+  bytes.leaves = bvh.leaf_floats.capacity() * sizeof(float) + bvh.leaves.capacity() * sizeof(LeafRecord);
+  bytes.indices = (bvh.scene_triangle.capacity() + bvh.leaf_of.capacity() + bvh.object.capacity()) * sizeof(std::uint32_t);
   return bytes;
 }
 
 void Bvh::refit(std::span<const glm::vec3> vertices) {
-  EXAO_CHECK_EQ(vertices.size(), 3 * packed.size());
-  // The packed triangles keep their sidedness, cut-out flag and object; only the floats move,
-  // with the spheres as TriangleSet::build computes them (the same floats as brute's).
+  EXAO_CHECK_EQ(vertices.size(), 3 * triangle_count());
+  // The blocks keep their sidedness and cut-out bits (and the tree its objects); only the floats
+  // move, with the spheres as TriangleSet::build computes them (the same floats as brute's).
   largest_coordinate = tbb::parallel_reduce(
-      tbb::blocked_range<std::size_t>(0, packed.size(), kGrain), 0.0f,
+      tbb::blocked_range<std::size_t>(0, leaves.size(), 256), 0.0f,
       [&](const tbb::blocked_range<std::size_t>& range, float largest) {
-        for (std::size_t i = range.begin(); i != range.end(); ++i) {
-          lut::PackedTriangle& p = packed[i];
-          const std::size_t t = scene_triangle[i];
-          p.v0 = vertices[3 * t];
-          p.v1 = vertices[3 * t + 1];
-          p.v2 = vertices[3 * t + 2];
-          lut::bounding_sphere(p.v0, p.v1, p.v2, p.centre, p.radius);
-          for (const glm::vec3& v : {p.v0, p.v1, p.v2}) largest = std::max({largest, std::abs(v.x), std::abs(v.y), std::abs(v.z)});
+        for (std::size_t b = range.begin(); b != range.end(); ++b) {
+          const LeafRecord& leaf = leaves[b];
+          for (int l = 0; l < leaf.count; ++l) {
+            const std::size_t t = scene_triangle[leaf.first + static_cast<std::uint32_t>(l)];
+            const glm::vec3 &v0 = vertices[3 * t], &v1 = vertices[3 * t + 1], &v2 = vertices[3 * t + 2];
+            glm::vec3 centre;
+            float radius = 0.0f;
+            lut::bounding_sphere(v0, v1, v2, centre, radius);
+            put_lane(leaf_floats.data() + leaf.offset, leaf_width(leaf.count), l, v0, v1, v2, centre, radius);
+            for (const glm::vec3& v : {v0, v1, v2}) largest = std::max({largest, std::abs(v.x), std::abs(v.y), std::abs(v.z)});
+          }
         }
         return largest;
       },

@@ -33,18 +33,55 @@ struct Node {
   std::uint8_t child_count;
 };
 
-/// A leaf's triangles side by side, lane k = the leaf's triangle k (the same floats as `packed`),
-/// lanes past the leaf's size NaN: the traversal (bvh and auto) sets up a whole leaf at once,
-/// lane = triangle (bvh/leaf_setup-inl.h).
-struct alignas(32) LeafBlock {
+/// The rows of a leaf's lanes (LeafBlock), in the order Bvh::leaf_floats holds them.
+enum LeafRow : int { kV0x, kV0y, kV0z, kV1x, kV1y, kV1z, kV2x, kV2y, kV2z, kCentreX, kCentreY, kCentreZ, kRadius, kLeafRows };
+
+/// A leaf's triangles side by side, lane k = the leaf's triangle k (the floats of
+/// lut::TriangleSet, so every mask equals brute's): the traversal (bvh and auto) sets up a whole
+/// leaf at once, lane = triangle (bvh/leaf_setup-inl.h). A view of kLeafRows rows of `width`
+/// floats: 4 for a leaf of up to 4 triangles, else 8. Most leaves are small (2.75 triangles on
+/// average on a terrain), so rows of 4 halve the bytes of the tree's largest part; the set-up
+/// reads a row of 4 into 8 lanes with NaN above (load_row), so lanes past the leaf's size are
+/// NaN, as they were when every row had 8.
+struct LeafBlock {
   static constexpr int kLanes = 8;
-  float v0x[kLanes], v0y[kLanes], v0z[kLanes];
-  float v1x[kLanes], v1y[kLanes], v1z[kLanes];
-  float v2x[kLanes], v2y[kLanes], v2z[kLanes];
-  float cx[kLanes], cy[kLanes], cz[kLanes];  // bounding spheres
-  float radius[kLanes];
-  std::uint32_t two_sided = 0;  // bit k: lane k is two-sided
-  std::uint32_t cutout = 0;     // bit k: lane k is alpha-tested (0 in an opaque scene: today's path)
+  const float *v0x, *v0y, *v0z, *v1x, *v1y, *v1z, *v2x, *v2y, *v2z;
+  const float *cx, *cy, *cz, *radius;  // bounding spheres
+  int width;                    // floats a row: 4 or 8
+  std::uint32_t two_sided;      // bit k: lane k is two-sided
+  std::uint32_t cutout;         // bit k: lane k is alpha-tested (0 in an opaque scene: today's path)
+  std::uint32_t first;          // lane 0's triangle, in leaf order
+  std::uint32_t count;          // the leaf's size, 1-8
+
+  LeafBlock(const float* rows, int width_, std::uint32_t two_sided_, std::uint32_t cutout_, std::uint32_t first_,
+            std::uint32_t count_)
+      : v0x(rows + kV0x * width_), v0y(rows + kV0y * width_), v0z(rows + kV0z * width_),
+        v1x(rows + kV1x * width_), v1y(rows + kV1y * width_), v1z(rows + kV1z * width_),
+        v2x(rows + kV2x * width_), v2y(rows + kV2y * width_), v2z(rows + kV2z * width_),
+        cx(rows + kCentreX * width_), cy(rows + kCentreY * width_), cz(rows + kCentreZ * width_),
+        radius(rows + kRadius * width_), width(width_), two_sided(two_sided_), cutout(cutout_), first(first_),
+        count(count_) {}
+};
+
+/// Floats a row of a leaf of `count` triangles.
+[[nodiscard]] constexpr int leaf_width(int count) { return count <= 4 ? 4 : LeafBlock::kLanes; }
+
+/// Where a leaf's rows are in Bvh::leaf_floats, and its flags.
+struct LeafRecord {
+  std::uint32_t offset = 0;     // of its first row, in floats (a multiple of 4)
+  std::uint32_t first = 0;      // lane 0's triangle, in leaf order
+  std::uint8_t count = 0;       // 1-8
+  std::uint8_t two_sided = 0;   // bit k: lane k is two-sided
+  std::uint8_t cutout = 0;      // bit k: lane k is alpha-tested
+};
+
+/// Eight lanes of rows of its own: a leaf gathered from the triangles of several (the occluder
+/// cache, bvh/traverse-inl.h).
+struct alignas(32) LeafLanes {
+  float rows[kLeafRows * LeafBlock::kLanes];
+  [[nodiscard]] LeafBlock view(std::uint32_t two_sided, std::uint32_t cutout, std::uint32_t count) const {
+    return LeafBlock(rows, LeafBlock::kLanes, two_sided, cutout, 0, count);
+  }
 };
 
 struct BvhOptions {
@@ -57,18 +94,26 @@ struct BvhOptions {
 
 struct Bvh {
   std::vector<Node> nodes;          // nodes[0] is the root
-  // The triangles in leaf order (a leaf's are contiguous), a cache line each: the same floats as
-  // lut::TriangleSet's, so every mask equals brute's.
-  std::vector<lut::PackedTriangle, lut::CacheLineAllocator<lut::PackedTriangle>> packed;
-  std::vector<std::uint32_t> scene_triangle;  // index in the scene of packed[i]
-  /// The scene's cut-outs when any triangle is alpha-tested (PackedTriangle::cutout), else null.
+  // The triangles are numbered in leaf order (a leaf's are contiguous); Node::child of a leaf is
+  // its first. Their floats live in the leaf blocks only.
+  std::vector<float, lut::CacheLineAllocator<float>> leaf_floats;  // every leaf's rows (LeafBlock), back to back
+  std::vector<LeafRecord> leaves;              // per leaf, in leaf order
+  std::vector<std::uint32_t> leaf_of;          // per triangle: its leaf
+  std::vector<std::uint32_t> scene_triangle;   // per triangle: its index in the scene
+  std::vector<std::uint32_t> object;           // per triangle: Scene::object; empty when every one is 0
+  /// The scene's cut-outs when any triangle is alpha-tested (LeafBlock::cutout), else null.
   std::shared_ptr<const Cutouts> cutouts;
   float largest_coordinate = 0.0f;             // max |coordinate| of every vertex (the grazing margin's scale)
   float box_shrink_for_test = 0.0f;            // world units off the box cull's margin: a test's too-tight cull
-  std::vector<LeafBlock, lut::CacheLineAllocator<LeafBlock>> blocks;  // one per leaf
-  std::vector<std::uint32_t> leaf_block;       // per triangle that starts a leaf: its block
 
-  /// Builds over `triangles` (copied in leaf order: the floats are the same, so every mask
+  [[nodiscard]] std::size_t triangle_count() const { return scene_triangle.size(); }
+  [[nodiscard]] LeafBlock leaf(std::uint32_t i) const {
+    const LeafRecord& r = leaves[i];
+    return LeafBlock(leaf_floats.data() + r.offset, leaf_width(r.count), r.two_sided, r.cutout, r.first, r.count);
+  }
+  [[nodiscard]] std::uint32_t object_of(std::uint32_t t) const { return object.empty() ? 0u : object[t]; }
+
+  /// Builds over `triangles` (copied into the leaf blocks: the floats are the same, so every mask
   /// equals brute's). Fails on an empty set, or a tree deeper than 64 levels (millions of
   /// triangles with one centroid). Multithreaded (TBB); `progress` gets (done, total) work units.
   [[nodiscard]] static Result<Bvh> build(const lut::TriangleSet& triangles, const BvhOptions& options = {},
@@ -78,14 +123,13 @@ struct Bvh {
   [[nodiscard]] static Result<Bvh> build(const Scene& scene, const BvhOptions& options = {},
                                          const ProgressCallback& progress = {});
   /// The same tree, freeing the scene's arrays (scene = Scene{}, on success or failure after the
-  /// topology) once the packed copy is made, before the leaf blocks: the scene's 41 bytes a
-  /// triangle are then not part of the peak.
+  /// topology) once the leaf blocks are made, before the node spheres.
   [[nodiscard]] static Result<Bvh> build(Scene&& scene, const BvhOptions& options = {},
                                          const ProgressCallback& progress = {});
 
   /// Refit after a deformation: `vertices` are the triangles build was given (3 per triangle,
   /// in the scene's order; sidedness, objects and cut-outs kept), at new positions. The tree keeps its topology; every box
-  /// and sphere, the leaf blocks and the packed floats are recomputed bottom-up from the new
+  /// and sphere and the leaf blocks' floats are recomputed bottom-up from the new
   /// triangles, as conservative as build's, so the masks are brute's bit for bit as after a fresh
   /// build (only the culling's speed may drop when triangles move far from their old
   /// neighbours). Single-threaded, linear in the size.
@@ -95,10 +139,9 @@ struct Bvh {
 /// What a BVH holds, in bytes by array (capacities: what the process pays for them).
 struct BvhBytes {
   std::size_t nodes = 0;    // Node, 184 bytes each
-  std::size_t blocks = 0;   // LeafBlock, 448 bytes a leaf whatever its size
-  std::size_t packed = 0;   // PackedTriangle, 64 bytes a triangle
-  std::size_t indices = 0;  // scene_triangle and leaf_block, 4 bytes a triangle each
-  [[nodiscard]] std::size_t total() const { return nodes + blocks + packed + indices; }
+  std::size_t leaves = 0;   // the leaves' rows (208 bytes a leaf of up to 4 triangles, 416 above) and records (12)
+  std::size_t indices = 0;  // scene_triangle, leaf_of and object (when kept), 4 bytes a triangle each
+  [[nodiscard]] std::size_t total() const { return nodes + leaves + indices; }
 };
 [[nodiscard]] BvhBytes memory_bytes(const Bvh& bvh);
 
@@ -106,8 +149,28 @@ struct BvhBytes {
 /// triangles a receiver excluding it skips (Receiver::excluded_object).
 [[nodiscard]] inline std::uint32_t object_lanes(const Bvh& bvh, std::uint32_t first, int count, std::uint32_t object) {
   std::uint32_t lanes = 0;
-  for (int k = 0; k < count; ++k) lanes |= static_cast<std::uint32_t>(bvh.packed[first + k].object == object) << k;
+  for (int k = 0; k < count; ++k) lanes |= static_cast<std::uint32_t>(bvh.object_of(first + static_cast<std::uint32_t>(k)) == object) << k;
   return lanes;
+}
+
+/// Lane `l` of a leaf block as the mask kernels take one triangle (lut/kernels-inl.h): the same
+/// floats and flags; the object is left 0 (the traversal reads Bvh::object_of).
+[[nodiscard]] inline lut::PackedTriangle block_triangle(const LeafBlock& block, int l) {
+  lut::PackedTriangle p;
+  p.v0 = {block.v0x[l], block.v0y[l], block.v0z[l]};
+  p.v1 = {block.v1x[l], block.v1y[l], block.v1z[l]};
+  p.v2 = {block.v2x[l], block.v2y[l], block.v2z[l]};
+  p.centre = {block.cx[l], block.cy[l], block.cz[l]};
+  p.radius = block.radius[l];
+  p.two_sided = (block.two_sided >> l) & 1u;
+  p.cutout = (block.cutout >> l) & 1u;
+  return p;
+}
+
+/// Triangle t (leaf order): its leaf's lanes, and its lane there.
+[[nodiscard]] inline LeafBlock triangle_block(const Bvh& bvh, std::uint32_t t) { return bvh.leaf(bvh.leaf_of[t]); }
+[[nodiscard]] inline int triangle_lane(const Bvh& bvh, std::uint32_t t) {
+  return static_cast<int>(t - bvh.leaves[bvh.leaf_of[t]].first);
 }
 
 }  // namespace exao::bvh

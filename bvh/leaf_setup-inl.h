@@ -81,11 +81,23 @@ struct FrameLanes {
         bx(L::set(f.bitangent.x)), by(L::set(f.bitangent.y)), bz(L::set(f.bitangent.z)),
         nx(L::set(f.normal.x)), ny(L::set(f.normal.y)), nz(L::set(f.normal.z)) {}
 };
+// Lanes l.. of a leaf row of `width` floats (bvh::leaf_width): a row of 4 fills 8 lanes with NaN
+// above, as the lanes past a leaf's size have always been; narrower lanes never read past it.
+template <class L>
+[[nodiscard, gnu::always_inline]] inline typename L::F load_row(const float* p, int width) {
+  if constexpr (L::kWidth == 8) {
+    return width == 4 ? L::load4(p) : L::loadu(p);
+  } else {
+    return L::loadu(p);
+  }
+}
+
 template <class L>
 [[gnu::always_inline]] inline void to_frame(const FrameLanes<L>& f, const float* x, const float* y, const float* z,
-                                            typename L::F& lx, typename L::F& ly, typename L::F& lz) {
+                                            int width, typename L::F& lx, typename L::F& ly, typename L::F& lz) {
   using F = typename L::F;
-  const F dx = L::sub(L::load(x), f.ox), dy = L::sub(L::load(y), f.oy), dz = L::sub(L::load(z), f.oz);
+  const F dx = L::sub(load_row<L>(x, width), f.ox), dy = L::sub(load_row<L>(y, width), f.oy),
+          dz = L::sub(load_row<L>(z, width), f.oz);
   lx = L::add(L::add(L::mul(dx, f.tx), L::mul(dy, f.ty)), L::mul(dz, f.tz));
   ly = L::add(L::add(L::mul(dx, f.bx), L::mul(dy, f.by)), L::mul(dz, f.bz));
   lz = L::add(L::add(L::mul(dx, f.nx), L::mul(dy, f.ny)), L::mul(dz, f.nz));
@@ -147,7 +159,7 @@ template <class L>
   const F zero = L::set(0.0f), one = L::set(1.0f);
   const F cnx = L::mul(cx, inv_r), cny = L::mul(cy, inv_r), cnz = L::mul(cz, inv_r);
   const F len = L::sqrt(dot3<L>(cnx, cny, cnz, cnx, cny, cnz));
-  const F grown = L::mul(L::add(L::mul(L::load(leaf.radius + l), inv_r), L::mul(L::set(kTriangleMargin), len)),
+  const F grown = L::mul(L::add(L::mul(load_row<L>(leaf.radius + l, leaf.width), inv_r), L::mul(L::set(kTriangleMargin), len)),
                          L::set(1.0f + 1e-5f));
   const F sine = L::mul(L::div(grown, len), L::set(1.0f + 1e-5f));
   const auto cone = L::both(L::gt(len, grown), L::lt(sine, L::set(0.999f)));
@@ -170,7 +182,7 @@ template <class L>
   using F = typename L::F;
   const F one = L::set(1.0f), big = L::set(std::numeric_limits<float>::max());
   const F len = L::sqrt(dot3<L>(cx, cy, cz, cx, cy, cz));
-  const F grown = L::mul(L::add(L::add(L::load(leaf.radius + l), L::set(g_world)), L::mul(L::set(kTriangleMargin), len)),
+  const F grown = L::mul(L::add(L::add(load_row<L>(leaf.radius + l, leaf.width), L::set(g_world)), L::mul(L::set(kTriangleMargin), len)),
                          L::set(1.0f + 1e-6f));
   const auto rays = L::both(L::both(L::le(len, big), L::le(grown, big)), L::gt(len, L::mul(grown, L::set(1.0f + 1e-6f))));
   const F sine = L::mul(L::div(grown, len), L::set(1.0f + 1e-5f));
@@ -198,12 +210,12 @@ template <bool Certain>
   std::uint32_t live = 0;
   out.use_cone = 0;
   out.flat = 0;
-  for (int l = 0; l < LeafBlock::kLanes; l += L::kWidth) {
+  for (int l = 0; l < leaf.width; l += L::kWidth) {
     // 1. Into the receiver frame; the horizon (grown by g for certain).
     F ax, ay, az, bx_, by_, bz_, cx, cy, cz, ccx, ccy, ccz;
-    to_frame<L>(frame_lanes, leaf.v0x + l, leaf.v0y + l, leaf.v0z + l, ax, ay, az);
-    to_frame<L>(frame_lanes, leaf.v1x + l, leaf.v1y + l, leaf.v1z + l, bx_, by_, bz_);
-    to_frame<L>(frame_lanes, leaf.v2x + l, leaf.v2y + l, leaf.v2z + l, cx, cy, cz);
+    to_frame<L>(frame_lanes, leaf.v0x + l, leaf.v0y + l, leaf.v0z + l, leaf.width, ax, ay, az);
+    to_frame<L>(frame_lanes, leaf.v1x + l, leaf.v1y + l, leaf.v1z + l, leaf.width, bx_, by_, bz_);
+    to_frame<L>(frame_lanes, leaf.v2x + l, leaf.v2y + l, leaf.v2z + l, leaf.width, cx, cy, cz);
     const F horizon = Certain ? L::set(-g_world) : zero;
     auto ok = L::not_(L::both(L::both(L::le(az, horizon), L::le(bz_, horizon)), L::le(cz, horizon)));
     ax = L::mul(ax, inv_r), ay = L::mul(ay, inv_r), az = L::mul(az, inv_r);
@@ -230,8 +242,8 @@ template <bool Certain>
       ok = L::both(ok, L::both(L::le(d, one), L::gt(d, zero)));
     }
     // 4. The influence sphere.
-    to_frame<L>(frame_lanes, leaf.cx + l, leaf.cy + l, leaf.cz + l, ccx, ccy, ccz);
-    const F reach = L::add(L::load(leaf.radius + l), L::set(Certain ? ctx.radius + g_world : ctx.radius));
+    to_frame<L>(frame_lanes, leaf.cx + l, leaf.cy + l, leaf.cz + l, leaf.width, ccx, ccy, ccz);
+    const F reach = L::add(load_row<L>(leaf.radius + l, leaf.width), L::set(Certain ? ctx.radius + g_world : ctx.radius));
     ok = L::both(ok, L::le(dot3<L>(ccx, ccy, ccz, ccx, ccy, ccz), L::mul(reach, reach)));
     // 5. The triangle itself within r (pure only: it is only a cull, see CertainSetup).
     if constexpr (!Certain) ok = L::both(ok, L::le(origin_triangle_distance2_lanes<L>(ax, ay, az, bx_, by_, bz_, cx, cy, cz), one));

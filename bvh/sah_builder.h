@@ -3,7 +3,7 @@
 // algorithm of Embree's own binned builder (Wald 2007; Embree's GeneralBVHBuilder): 32 bins on
 // the axis of the centroid box, a leaf where the SAH says so, and an N-wide node made by
 // splitting its child of largest area until it has N children. Only the topology: the packing of
-// the leaves into PackedTriangle and LeafBlock, and the node spheres, are Bvh::build's.
+// the leaf blocks and the node spheres, are Bvh::build's.
 
 #include <cstdint>
 #include <functional>

@@ -99,40 +99,37 @@ template <int Bits>
   return clusters;
 }
 
-// A leaf block of the triangles t[0..n) of bvh.packed (padding lanes NaN, as the builder's): the
-// same floats as their own leaves' blocks, so leaf_setup gives the same bits.
-inline void gather_block(const Bvh& bvh, const std::uint32_t* t, int n, LeafBlock& block) {
+// The lanes of the triangles t[0..n) (padding lanes NaN, as the builder's): the same floats as
+// their own leaves' rows, so leaf_setup gives the same bits.
+inline LeafBlock gather_block(const Bvh& bvh, const std::uint32_t* t, int n, LeafLanes& lanes) {
   const float nan = std::numeric_limits<float>::quiet_NaN();
-  block.two_sided = 0;
-  block.cutout = 0;
+  std::uint32_t two_sided = 0, cutout = 0;
   for (int l = 0; l < LeafBlock::kLanes; ++l) {
     if (l >= n) {
-      for (float* p : {block.v0x, block.v0y, block.v0z, block.v1x, block.v1y, block.v1z, block.v2x, block.v2y, block.v2z,
-                       block.cx, block.cy, block.cz, block.radius}) {
-        p[l] = nan;
-      }
+      for (int r = 0; r < kLeafRows; ++r) lanes.rows[r * LeafBlock::kLanes + l] = nan;
       continue;
     }
-    const PackedTriangle& tri = bvh.packed[t[l]];
-    block.v0x[l] = tri.v0.x, block.v0y[l] = tri.v0.y, block.v0z[l] = tri.v0.z;
-    block.v1x[l] = tri.v1.x, block.v1y[l] = tri.v1.y, block.v1z[l] = tri.v1.z;
-    block.v2x[l] = tri.v2.x, block.v2y[l] = tri.v2.y, block.v2z[l] = tri.v2.z;
-    block.cx[l] = tri.centre.x, block.cy[l] = tri.centre.y, block.cz[l] = tri.centre.z;
-    block.radius[l] = tri.radius;
-    block.two_sided |= (tri.two_sided ? 1u : 0u) << l;
-    block.cutout |= (tri.cutout ? 1u : 0u) << l;
+    const LeafBlock from = triangle_block(bvh, t[l]);
+    const int k = triangle_lane(bvh, t[l]);
+    const float* const from_rows[kLeafRows] = {from.v0x, from.v0y, from.v0z, from.v1x, from.v1y, from.v1z, from.v2x,
+                                               from.v2y, from.v2z, from.cx,  from.cy,  from.cz,  from.radius};
+    for (int r = 0; r < kLeafRows; ++r) lanes.rows[r * LeafBlock::kLanes + l] = from_rows[r][k];
+    two_sided |= ((from.two_sided >> k) & 1u) << l;
+    cutout |= ((from.cutout >> k) & 1u) << l;
   }
+  return lanes.view(two_sided, cutout, static_cast<std::uint32_t>(n));
 }
 
-// The rest of triangle bvh.packed[t]'s mask after its set-up in lane l: pure, triangle_finish;
+// The rest of triangle t's mask (lane l of `block`) after its set-up in lane l: pure, triangle_finish;
 // certain, the sure mask of certain_finish, its maybe bits ORed into *maybe. Cut-outs keep only
 // the bits their alpha decides.
 template <int Bits, bool Certain>
-[[nodiscard]] inline Mask<Bits> finish_triangle(const Bvh& bvh, const lut::MaskEngine& engine, std::uint32_t t,
-                                                const LeafSetup& setup, int l, const Frame& frame, float g,
-                                                std::uint64_t allowed, lut::KernelCounters* counters, Mask<Bits>& maybe) {
+[[nodiscard]] inline Mask<Bits> finish_triangle(const Bvh& bvh, const lut::MaskEngine& engine, const LeafBlock& block,
+                                                std::uint32_t t, const LeafSetup& setup, int l, const Frame& frame,
+                                                float g, std::uint64_t allowed, lut::KernelCounters* counters,
+                                                Mask<Bits>& maybe) {
   const lut::KernelContext& ctx = engine.kernel_context();
-  const PackedTriangle& tri = bvh.packed[t];
+  const PackedTriangle tri = block_triangle(block, l);
   if constexpr (Certain) {
     CertainMasks<Bits> both = certain_finish<Bits>(ctx, tri, setup.certain(l), frame, g, allowed, counters);
     if (tri.cutout) {
@@ -162,15 +159,16 @@ inline int mask_cached_occluders(const Bvh& bvh, const lut::MaskEngine& engine, 
   std::uint64_t allowed = lut::open_clusters(blocked, n_rays);
   for (int first = 0; first < previous.count && allowed; first += LeafBlock::kLanes) {
     const int n = std::min(LeafBlock::kLanes, previous.count - first);
-    LeafBlock block;
-    gather_block(bvh, previous.triangle + first, n, block);
+    LeafLanes lanes;
+    const LeafBlock block = gather_block(bvh, previous.triangle + first, n, lanes);
     LeafSetup setup;
     std::uint32_t live = leaf_setup<Certain>(engine.kernel_context(), block, frame, g, setup) & ((1u << n) - 1u);
     for (; live && allowed; live &= live - 1) {
       const int l = std::countr_zero(live);
       const std::uint32_t t = previous.triangle[first + l];
-      if (frame.excluded_object != kNoObject && bvh.packed[t].object == frame.excluded_object) continue;
-      const Mask<Bits> sure = finish_triangle<Bits, Certain>(bvh, engine, t, setup, l, frame, g, allowed, counters, maybe);
+      if (frame.excluded_object != kNoObject && bvh.object_of(t) == frame.excluded_object) continue;
+      const Mask<Bits> sure =
+          finish_triangle<Bits, Certain>(bvh, engine, block, t, setup, l, frame, g, allowed, counters, maybe);
       if (popcount_and_not(sure, blocked) == 0) continue;
       blocked |= sure;
       allowed &= lut::open_clusters(blocked, n_rays);
@@ -259,7 +257,7 @@ template <int Bits, bool Certain>
   }
 }
 
-// The leaf at bvh.packed[first..first + size), on the clusters of `wanted`: its set-up in lanes,
+// The leaf of triangles [first, first + size), on the clusters of `wanted`: its set-up in lanes,
 // then the rest for the triangles that pass, in order, until no cluster is left open.
 template <int Bits, bool Stats, bool Certain>
 [[gnu::always_inline]] inline void mask_leaf(const Bvh& bvh, const lut::MaskEngine& engine, const Frame& frame, float g, std::uint32_t first,
@@ -269,13 +267,14 @@ template <int Bits, bool Stats, bool Certain>
   const int n_rays = engine.samples();
   std::uint64_t allowed = lut::occupied_clusters(wanted);
   LeafSetup setup;
-  std::uint32_t live = leaf_setup<Certain>(ctx, bvh.blocks[bvh.leaf_block[first]], frame, g, setup);
+  const LeafBlock block = triangle_block(bvh, first);
+  std::uint32_t live = leaf_setup<Certain>(ctx, block, frame, g, setup);
   if (frame.excluded_object != kNoObject) live &= ~object_lanes(bvh, first, size, frame.excluded_object);
   if constexpr (Stats) stats->triangles_tested += static_cast<std::uint64_t>(size);
   for (; live; live &= live - 1) {
     const int l = std::countr_zero(live);
     const Mask<Bits> sure =
-        finish_triangle<Bits, Certain>(bvh, engine, first + l, setup, l, frame, g, allowed, counters, state.maybe);
+        finish_triangle<Bits, Certain>(bvh, engine, block, first + l, setup, l, frame, g, allowed, counters, state.maybe);
     const bool blocks = popcount_and_not(sure, state.blocked) > 0;
     if constexpr (Stats) stats->triangles_blocking += blocks;
     if (!blocks) continue;
@@ -363,11 +362,11 @@ template <int Bits>
 void leaf_masks(const Bvh& bvh, const lut::MaskEngine& engine, const Frame& frame, std::uint32_t first, int count,
                 std::uint64_t allowed, Mask<Bits>* out) {
   const lut::KernelContext& ctx = engine.kernel_context();
-  const LeafBlock& block = bvh.blocks[bvh.leaf_block[first]];
+  const LeafBlock block = triangle_block(bvh, first);
   LeafSetup setup;
   const std::uint32_t live = leaf_setup<false>(ctx, block, frame, 0.0f, setup);
   for (int l = 0; l < count; ++l) {
-    out[l] = (live >> l) & 1u ? triangle_finish<Bits>(ctx, bvh.packed[first + l], setup.pure(l), frame, allowed, nullptr)
+    out[l] = (live >> l) & 1u ? triangle_finish<Bits>(ctx, block_triangle(block, l), setup.pure(l), frame, allowed, nullptr)
                               : Mask<Bits>{};
   }
 }

@@ -76,7 +76,7 @@ struct HybridOutcome {
 /// here), then traverses as before, and leaves its own occluders in the cache for the next
 /// receiver. The masks are the same bits with or without it; only the work changes. One cache
 /// per thread and per run of receivers in a coherent order, on one Bvh (indices into
-/// Bvh::packed).
+/// the tree's triangle numbers, leaf order).
 struct OccluderCache {
   static constexpr int kMax = 64;
   int count = 0;

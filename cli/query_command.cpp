@@ -28,12 +28,12 @@ struct QueryOptions {
 // Where the BVH's bytes go, per triangle (issue 21: memory per triangle).
 void print_bvh_bytes(const bvh::Bvh& tree) {
   const bvh::BvhBytes bytes = bvh::memory_bytes(tree);
-  const double n = static_cast<double>(tree.packed.size());
+  const double n = static_cast<double>(tree.triangle_count());
   const auto per = [&](std::size_t b) { return static_cast<double>(b) / n; };
-  std::printf("bvh memory: %.1f bytes a triangle: nodes %.1f (%zu), leaf blocks %.1f (%zu, %.2f triangles a leaf), "
-              "packed triangles %.1f, indices %.1f\n",
-              per(bytes.total()), per(bytes.nodes), tree.nodes.size(), per(bytes.blocks), tree.blocks.size(),
-              n / static_cast<double>(std::max<std::size_t>(1, tree.blocks.size())), per(bytes.packed), per(bytes.indices));
+  std::printf("bvh memory: %.1f bytes a triangle: nodes %.1f (%zu), leaves %.1f (%zu, %.2f triangles a leaf), "
+              "indices %.1f\n",
+              per(bytes.total()), per(bytes.nodes), tree.nodes.size(), per(bytes.leaves), tree.leaves.size(),
+              n / static_cast<double>(std::max<std::size_t>(1, tree.leaves.size())), per(bytes.indices));
 }
 
 int run_query(const QueryOptions& options, const Invocation& invocation) {

@@ -326,11 +326,24 @@ EmbreeScene::EmbreeScene(EmbreeScene&&) noexcept = default;
 EmbreeScene& EmbreeScene::operator=(EmbreeScene&&) noexcept = default;
 EmbreeScene::~EmbreeScene() = default;
 
-Result<EmbreeScene> EmbreeScene::build(const Scene& scene) { return build(scene, false); }
+Result<EmbreeScene> EmbreeScene::build(const Scene& scene, const ProgressCallback& progress) {
+  return build(scene, false, progress);
+}
 
-Result<EmbreeScene> EmbreeScene::build_sharing(const Scene& scene) { return build(scene, true); }
+Result<EmbreeScene> EmbreeScene::build_sharing(const Scene& scene, const ProgressCallback& progress) {
+  return build(scene, true, progress);
+}
 
-Result<EmbreeScene> EmbreeScene::build(const Scene& scene, bool share) {
+namespace {
+// Embree's build progress (a fraction, from its worker threads) as thousandths.
+bool report_build_progress(void* callback, double fraction) {
+  const auto& progress = *static_cast<const ProgressCallback*>(callback);
+  progress(static_cast<std::size_t>(std::clamp(fraction, 0.0, 1.0) * 1000.0), 1000);
+  return true;
+}
+}  // namespace
+
+Result<EmbreeScene> EmbreeScene::build(const Scene& scene, bool share, const ProgressCallback& progress) {
   const std::size_t n = scene.triangle_count();
   if (3 * n > std::numeric_limits<unsigned>::max()) {
     return fail("Embree: " + std::to_string(n) + " triangles is more than 32-bit vertex indices address");
@@ -367,7 +380,9 @@ Result<EmbreeScene> EmbreeScene::build(const Scene& scene, bool share) {
   }
   attach_triangles(*impl, kOneSided);
   attach_triangles(*impl, kTwoSided);
+  if (progress) rtcSetSceneProgressMonitorFunction(impl->scene, report_build_progress, const_cast<ProgressCallback*>(&progress));
   rtcCommitScene(impl->scene);
+  rtcSetSceneProgressMonitorFunction(impl->scene, nullptr, nullptr);
   if (!impl->first_error.empty()) return fail(impl->first_error);
   return EmbreeScene(std::move(impl));
 }

@@ -63,14 +63,16 @@ class EmbreeScene {
 
   /// Embree reads a copy of the scene's vertices (36 bytes a triangle); the scene need not
   /// outlive the result.
-  [[nodiscard]] static Result<EmbreeScene> build(const Scene& scene);
+  /// `progress` gets Embree's own estimate of its build (rtcSetSceneProgressMonitorFunction), in
+  /// thousandths.
+  [[nodiscard]] static Result<EmbreeScene> build(const Scene& scene, const ProgressCallback& progress = {});
   /// The same scene, with Embree reading `scene.vertices` in place (rtcSetSharedGeometryBuffer):
   /// no copy. The vector's storage must then outlive the result where it is (moving the vector
   /// keeps it; growing or freeing it does not), changed only as refit says. Embree reads each
   /// vertex with a 16-byte load, so the vector needs spare capacity for Scene::kVertexPadding
   /// more vertices; without it the vertices are copied as build(scene) copies them
   /// (shares_vertices() says which). The same rays, the same answers.
-  [[nodiscard]] static Result<EmbreeScene> build_sharing(const Scene& scene);
+  [[nodiscard]] static Result<EmbreeScene> build_sharing(const Scene& scene, const ProgressCallback& progress = {});
   /// Whether Embree reads the caller's vertices (build_sharing with the padding there).
   [[nodiscard]] bool shares_vertices() const;
   /// Moves the triangles of the scene build was given to `vertices` (3 per triangle, the
@@ -105,7 +107,7 @@ class EmbreeScene {
  struct Impl;  // opaque: Embree's headers stay out of exao's
 
  private:
-  [[nodiscard]] static Result<EmbreeScene> build(const Scene& scene, bool share);
+  [[nodiscard]] static Result<EmbreeScene> build(const Scene& scene, bool share, const ProgressCallback& progress);
   explicit EmbreeScene(std::unique_ptr<Impl> impl);
   std::unique_ptr<Impl> impl_;
 };

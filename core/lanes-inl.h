@@ -161,6 +161,11 @@ struct Lanes8 {
   using F = __m256;
   using M = __m256;  // all-ones or all-zeros per lane
   static F load(const float* p) { return _mm256_load_ps(p); }
+  static F loadu(const float* p) { return _mm256_loadu_ps(p); }
+  // Four floats into the low lanes, NaN above: a BVH leaf's row of 4 (bvh::leaf_width).
+  static F load4(const float* p) {
+    return _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(p)), _mm_set1_ps(std::numeric_limits<float>::quiet_NaN()), 1);
+  }
   static F set(float x) { return _mm256_set1_ps(x); }
   static F add(F a, F b) { return _mm256_add_ps(a, b); }
   static F sub(F a, F b) { return _mm256_sub_ps(a, b); }

@@ -49,7 +49,8 @@ Result<BuiltBackends> build_backends(const Backends& b, const Scene& source, boo
   Result<void> built;
   arena.execute([&] {
     if (b.embree) {
-      Result<EmbreeScene> reference = shareable ? EmbreeScene::build_sharing(source) : EmbreeScene::build(source);
+      Result<EmbreeScene> reference =
+          shareable ? EmbreeScene::build_sharing(source, options.progress) : EmbreeScene::build(source, options.progress);
       if (!reference) {
         built = std::unexpected(reference.error());
         return;
@@ -181,7 +182,7 @@ Result<void> Geometry::refit(std::span<const glm::vec3> vertices) {
   }
   if (triangles_) triangles_->set_vertices(vertices);
   if (bvh_) {
-    bvh_->refit(vertices);  // its packed triangles keep sidedness, cut-outs and objects
+    bvh_->refit(vertices);  // its leaf blocks keep sidedness and cut-outs, the tree its objects
   }
   bounds_ = Bounds{};
   occluder_bounds_ = Bounds{};

@@ -27,7 +27,7 @@ struct GeometryOptions {
   /// Build the Embree scene even when no method casts rays, for pixel receivers and previews.
   bool embree = false;
   int threads = 0;  // 0: one per core
-  /// The BVH build's progress, (done, total) work units; may be called from any thread.
+  /// The builds' progress, (done, total) work units: Embree's, then the BVH's; may be called from any thread.
   ProgressCallback progress;
 };
 

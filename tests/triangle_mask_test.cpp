@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <optional>
@@ -267,6 +268,11 @@ TEST(TriangleMask, LeafSetupInLanesEqualsTheOneTriangleKernel) {
   auto built = bvh::Bvh::build(set, {4, 8});
   ASSERT_TRUE(built) << built.error().message;
   const bvh::Bvh& tree = *built;
+  // Both row widths (bvh::leaf_width): leaves of up to 4 triangles keep rows of 4, larger 8.
+  const auto has_width = [&](int width) {
+    return std::any_of(tree.leaves.begin(), tree.leaves.end(), [&](const bvh::LeafRecord& leaf) { return bvh::leaf_width(leaf.count) == width; });
+  };
+  ASSERT_TRUE(has_width(4) && has_width(8));
   for (const int n : {32, 64, 128, 256, 512, 1024}) {
     const ShadowRays rays = rays_of(n, Falloff::Linear, r);
     for (const MaskMode mode : {MaskMode::Exact, MaskMode::Lut}) {
