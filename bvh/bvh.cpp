@@ -12,6 +12,7 @@
 
 #include "bvh/sah_builder.h"
 #include "core/check.h"
+#include "core/huge_pages.h"
 
 namespace exao::bvh {
 namespace {
@@ -124,7 +125,9 @@ Result<Bvh> build_from(const Source& source, const BvhOptions& options, const Pr
 
   Result<Topology> topology;
   {
-    std::vector<BuildPrimitive> primitives(n);
+    std::vector<BuildPrimitive> primitives;
+    reserve_huge(primitives, n);
+    primitives.resize(n);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kGrain), [&](const tbb::blocked_range<std::size_t>& range) {
       for (std::size_t t = range.begin(); t != range.end(); ++t) {
         const glm::vec3 a = source.vertex(t, 0), b = source.vertex(t, 1), c = source.vertex(t, 2);
@@ -165,8 +168,11 @@ Result<Bvh> build_from(const Source& source, const BvhOptions& options, const Pr
   if (first_float.back() > std::numeric_limits<std::uint32_t>::max()) {
     return fail("bvh: " + std::to_string(n) + " triangles need more leaf floats than 32-bit offsets address");
   }
+  reserve_huge(bvh.leaves, first_leaf.back());
   bvh.leaves.resize(first_leaf.back());
+  reserve_huge(bvh.leaf_floats, first_float.back());
   bvh.leaf_floats.resize(first_float.back());
+  reserve_huge(bvh.leaf_of, n);
   bvh.leaf_of.assign(n, 0);
   std::atomic<std::size_t> placed{0};
   bvh.largest_coordinate = tbb::parallel_reduce(

@@ -1,5 +1,7 @@
 #include "bvh/sah_builder.h"
 
+#include "core/huge_pages.h"
+
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -361,6 +363,7 @@ Result<Topology> build_topology(std::vector<BuildPrimitive>& primitives, const B
     out.ranges.reserve(nodes);
     flatten(*top.child[0], out);
   }
+  reserve_huge(out.order, primitives.size());
   out.order.resize(primitives.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, primitives.size(), kGrain), [&](const tbb::blocked_range<std::size_t>& range) {
     for (std::size_t i = range.begin(); i != range.end(); ++i) out.order[i] = primitives[i].index;

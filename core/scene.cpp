@@ -1,6 +1,6 @@
 #include "core/scene.h"
 
-#include "core/coordinate_limit.h"
+#include "core/huge_pages.h"
 
 #include <algorithm>
 #include <cmath>
@@ -14,25 +14,10 @@ Bounds Scene::bounds() const {
   return b;
 }
 
-bool Scene::add_triangle(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c,
-                         bool is_two_sided, std::int32_t material_index) {
-  ++report.triangles_read;
-  // Beyond the limit is as unusable as infinite: Embree would abort on rays from there.
-  if (!within_coordinate_limit(a) || !within_coordinate_limit(b) || !within_coordinate_limit(c)) {
-    ++report.non_finite_skipped;
-    return false;
-  }
-  // Double precision, so that only truly degenerate triangles (repeated or collinear
-  // vertices) are dropped, not merely small ones.
-  const glm::dvec3 n = glm::cross(glm::dvec3(b) - glm::dvec3(a), glm::dvec3(c) - glm::dvec3(a));
-  if (n == glm::dvec3(0.0)) {
-    ++report.zero_area_skipped;
-    return false;
-  }
-  vertices.insert(vertices.end(), {a, b, c});
-  two_sided.push_back(is_two_sided ? 1 : 0);
-  material.push_back(material_index);
-  return true;
+void Scene::reserve(std::size_t triangles) {
+  reserve_huge(vertices, vertices.size() + 3 * triangles + kVertexPadding);
+  reserve_huge(two_sided, two_sided.size() + triangles);
+  reserve_huge(material, material.size() + triangles);
 }
 
 void apply_sidedness(Scene& scene, Sidedness sidedness) {

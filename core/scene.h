@@ -12,6 +12,7 @@
 
 #include "core/bounds.h"
 #include "core/camera.h"
+#include "core/coordinate_limit.h"
 
 namespace exao {
 
@@ -70,11 +71,35 @@ struct Scene {
     return m >= 0 && static_cast<std::size_t>(m) < material_opacity.size() ? material_opacity[static_cast<std::size_t>(m)] : 1.0f;
   }
 
+  /// Room for `triangles` more without reallocation (and Embree's padding after the vertices),
+  /// on huge pages where the kernel has them (core/huge_pages.h): what a loader calls once it
+  /// knows the count.
+  void reserve(std::size_t triangles);
   /// Adds a triangle unless it has a non-finite vertex (or one beyond kMaxCoordinate,
   /// core/coordinate_limit.h) or exactly zero area; either case is
   /// counted in `report`. Returns whether it was added.
   bool add_triangle(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c, bool is_two_sided,
-                    std::int32_t material_index);
+                    std::int32_t material_index) {
+    ++report.triangles_read;
+    // Beyond the limit is as unusable as infinite: Embree would abort on rays from there.
+    if (!within_coordinate_limit(a) || !within_coordinate_limit(b) || !within_coordinate_limit(c)) {
+      ++report.non_finite_skipped;
+      return false;
+    }
+    // Double precision, so that only truly degenerate triangles (repeated or collinear
+    // vertices) are dropped, not merely small ones.
+    const glm::dvec3 n = glm::cross(glm::dvec3(b) - glm::dvec3(a), glm::dvec3(c) - glm::dvec3(a));
+    if (n == glm::dvec3(0.0)) {
+      ++report.zero_area_skipped;
+      return false;
+    }
+    vertices.push_back(a);
+    vertices.push_back(b);
+    vertices.push_back(c);
+    two_sided.push_back(is_two_sided ? 1 : 0);
+    material.push_back(material_index);
+    return true;
+  }
 };
 
 enum class Sidedness { Auto, One, Two };

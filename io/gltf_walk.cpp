@@ -201,9 +201,7 @@ Result<ModelWalk> walk_model(const tinygltf::Model& model, AccessorPath path) {
   // padding that lets Embree read the vertices in place, core/scene.h).
   std::size_t triangles = 0;
   for (const Part& part : walk.parts) triangles += walk.primitives[static_cast<std::size_t>(part.primitive)].corners.size() / 3;
-  walk.scene.vertices.reserve(3 * triangles + Scene::kVertexPadding);
-  walk.scene.two_sided.reserve(triangles);
-  walk.scene.material.reserve(triangles);
+  walk.scene.reserve(triangles);
   walk.triangle_source.reserve(triangles);
   for (std::size_t p = 0; p < walk.parts.size(); ++p) emit(walk, p);
   LoadReport& report = walk.scene.report;

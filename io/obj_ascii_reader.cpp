@@ -26,9 +26,7 @@ std::optional<Result<Scene>> read_ascii_obj(std::string_view file, const Progres
   // Sized from the file: a terrain's OBJ has about 25 bytes a triangle.
   points.reserve(file.size() / 64);
   const std::size_t guess = file.size() / 24;
-  scene.vertices.reserve(3 * guess + Scene::kVertexPadding);
-  scene.two_sided.reserve(guess);
-  scene.material.reserve(guess);
+  scene.reserve(guess);
 
   std::vector<std::size_t> polygon;
   std::size_t faces = 0;

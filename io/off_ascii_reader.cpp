@@ -84,9 +84,7 @@ std::optional<Result<Scene>> read_ascii_off(std::string_view file, const Progres
 
   Scene scene;
   const auto face_count = static_cast<std::size_t>(faces);
-  scene.vertices.reserve(3 * face_count + Scene::kVertexPadding);
-  scene.two_sided.reserve(face_count);
-  scene.material.reserve(face_count);
+  scene.reserve(face_count);
   std::vector<std::size_t> polygon;
   std::size_t too_small = 0;
   for (std::size_t f = 0; f < face_count; ++f) {

@@ -94,9 +94,7 @@ std::optional<Result<Scene>> read_ascii_ply(std::string_view file, const Progres
   }
 
   Scene scene;
-  scene.vertices.reserve(3 * face.count + Scene::kVertexPadding);
-  scene.two_sided.reserve(face.count);
-  scene.material.reserve(face.count);
+  scene.reserve(face.count);
   std::vector<std::size_t> polygon;
   std::size_t too_small = 0;
   // A list longer than the file could hold is the pre-scan's to refuse; this bound only keeps a

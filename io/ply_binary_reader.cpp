@@ -13,6 +13,8 @@
 
 #include <glm/glm.hpp>
 
+#include "core/huge_pages.h"
+
 namespace exao {
 namespace {
 
@@ -152,6 +154,7 @@ Result<std::vector<glm::vec3>> read_points(const std::vector<ply::Element>& elem
       continue;
     }
     if (e.scalar_bytes == 0 || e.count > in.left() / e.scalar_bytes) return truncated("element 'vertex'");
+    reserve_huge(points, e.count);
     points.resize(e.count);
     for (std::uint64_t v = 0; v < e.count; ++v, in.pos += e.scalar_bytes) {
       const unsigned char* p = in.bytes + in.pos;
@@ -216,9 +219,7 @@ Result<void> read_polygon(Cursor& in, const FaceEntry& entry, std::uint64_t f, s
 Result<Scene> read_faces(const ply::Element& face, std::size_t index_property, const std::vector<glm::vec3>& points,
                          Cursor& in, const ProgressCallback& progress) {
   Scene scene;
-  scene.vertices.reserve(3 * face.count + Scene::kVertexPadding);
-  scene.two_sided.reserve(face.count);
-  scene.material.reserve(face.count);
+  scene.reserve(face.count);
   const FaceEntry entry = face_entry_of(face, index_property);
   std::size_t too_small = 0;
   std::vector<std::size_t> polygon;

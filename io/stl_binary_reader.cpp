@@ -46,9 +46,7 @@ std::optional<Result<Scene>> read_binary_stl(std::string_view file, const Progre
   if (count == 0 || count > (file.size() - kHeader - 4) / kRecord) return std::nullopt;
 
   Scene scene;
-  scene.vertices.reserve(3 * count + Scene::kVertexPadding);
-  scene.two_sided.reserve(count);
-  scene.material.reserve(count);
+  scene.reserve(count);
   const unsigned char* record = bytes + kHeader + 4;
   for (std::uint64_t f = 0; f < count; ++f, record += kRecord) {
     glm::vec3 corner[3];
