@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <fstream>
 #include <map>
 #include <sstream>
 
@@ -14,15 +13,6 @@
 
 namespace exao::cli {
 namespace {
-
-Result<void> write_text(const std::string& text, const std::string& path) {
-  return write_atomically(path, [&](const std::string& temp) -> Result<void> {
-    std::ofstream out(temp);
-    out << text;
-    if (!out.flush()) return fail(path + ": write failed: " + system_reason());
-    return {};
-  });
-}
 
 std::string escape_xml(const std::string& s) {
   std::string out;
@@ -110,7 +100,7 @@ Result<void> write_bench_json(const bench::Report& report, const std::string& pa
     }
     j["runs"].push_back(r);
   }
-  return write_text(j.dump(2) + "\n", path);
+  return write_file_atomically(path, j.dump(2) + "\n");
 }
 
 // Groups of bars, one group per (N, radius), one bar per method and mask mode, height Mrays/s.
@@ -131,7 +121,7 @@ Result<void> write_bench_markdown(const bench::Report& report, const std::string
     }
     md << line;
   }
-  return write_text(md.str(), path);
+  return write_file_atomically(path, md.str());
 }
 
 Result<void> write_bench_svg(const bench::Report& report, const std::string& path) {
@@ -179,7 +169,7 @@ Result<void> write_bench_svg(const bench::Report& report, const std::string& pat
         << "'/><text x='" << width - 172 << "' y='" << y << "'>" << escape_xml(series[si]) << "</text>\n";
   }
   svg << "</svg>\n";
-  return write_text(svg.str(), path);
+  return write_file_atomically(path, svg.str());
 }
 
 }  // namespace exao::cli
