@@ -25,6 +25,10 @@ std::string escape_xml(const std::string& s) {
   return out;
 }
 
+// The chart's group of a row (one per N and radius) and its series (one per method and mask mode).
+std::string bar_group(const bench::Run& run) { return "N=" + std::to_string(run.samples) + ", r=" + run.radius_text; }
+std::string bar_series(const bench::Run& run) { return run.method + (run.method == "embree" ? "" : " (" + run.masks + ")"); }
+
 }  // namespace
 
 void print_bench_header(const bench::Report& report) {
@@ -127,8 +131,7 @@ Result<void> write_bench_markdown(const bench::Report& report, const std::string
 Result<void> write_bench_svg(const bench::Report& report, const std::string& path) {
   std::vector<std::string> groups, series;
   for (const bench::Run& run : report.runs) {
-    const std::string g = "N=" + std::to_string(run.samples) + ", r=" + run.radius_text;
-    const std::string s = run.method + (run.method == "embree" ? "" : " (" + run.masks + ")");
+    const std::string g = bar_group(run), s = bar_series(run);
     if (std::find(groups.begin(), groups.end(), g) == groups.end()) groups.push_back(g);
     if (std::find(series.begin(), series.end(), s) == series.end()) series.push_back(s);
   }
@@ -150,8 +153,7 @@ Result<void> write_bench_svg(const bench::Report& report, const std::string& pat
         << "<text x='" << left - 6 << "' y='" << y + 4 << "' text-anchor='end'>" << static_cast<int>(value) << "</text>\n";
   }
   for (const bench::Run& run : report.runs) {
-    const std::string g = "N=" + std::to_string(run.samples) + ", r=" + run.radius_text;
-    const std::string s = run.method + (run.method == "embree" ? "" : " (" + run.masks + ")");
+    const std::string g = bar_group(run), s = bar_series(run);
     const auto gi = std::find(groups.begin(), groups.end(), g) - groups.begin();
     const auto si = std::find(series.begin(), series.end(), s) - series.begin();
     const int h = static_cast<int>(plot_h * run.mrays_per_s / top);
