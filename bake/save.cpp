@@ -45,16 +45,6 @@ std::string base64(std::span<const std::uint8_t> bytes) {
 // Images keep the URI they had: tinygltf would otherwise re-encode pixels the bake never decoded.
 bool keep_uri(const std::string*, const std::string*, const tinygltf::Image*, bool, std::string*, void*) { return false; }
 
-Result<void> write_bytes(const std::string& path, std::span<const std::uint8_t> bytes) {
-  return write_atomically(path, [&](const std::string& temp) -> Result<void> {
-    std::ofstream out(temp, std::ios::binary | std::ios::trunc);
-    out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-    out.close();
-    if (!out) return fail(path + ": cannot write: " + system_reason());
-    return {};
-  });
-}
-
 Result<void> check_not_input(const Document& document, const std::string& path) {
   std::error_code ec;
   for (const std::string& input : document.input_files()) {
@@ -120,7 +110,7 @@ Result<std::vector<std::vector<std::uint8_t>>> write_maps(const BakeResult& resu
     auto png = encode_grey_png(map.ao, map.size, map.size, options.png_bits);
     if (!png) return std::unexpected(png.error());
     map_png[m] = std::move(*png);
-    if (auto ok = write_bytes(paths.png[m], map_png[m]); !ok) return std::unexpected(ok.error());
+    if (auto ok = write_file_atomically(paths.png[m], map_png[m]); !ok) return std::unexpected(ok.error());
     written.push_back(paths.png[m]);
     AoImage exr;
     exr.width = exr.height = map.size;
@@ -218,7 +208,7 @@ Result<void> place_images(const Document& document, const BakeResult& result, co
     }
     if (auto ok = check_not_input(document, target.string()); !ok) return std::unexpected(ok.error());
     fs::create_directories(target.parent_path(), ec);
-    if (auto ok = write_bytes(target.string(), bytes); !ok) return std::unexpected(ok.error());
+    if (auto ok = write_file_atomically(target.string(), bytes); !ok) return std::unexpected(ok.error());
     written.push_back(target.string());
   }
   for (std::size_t m = 0; m < result.maps.size(); ++m) {
@@ -337,12 +327,12 @@ Result<std::vector<std::string>> save(const Document& document, const BakeResult
   if (!json) return std::unexpected(json.error());
   // The glTF last, so that it never refers to a file that is not there yet.
   if (!paths->bin.empty() && !bin.empty()) {
-    if (auto ok = write_bytes(paths->bin, bin); !ok) return std::unexpected(ok.error());
+    if (auto ok = write_file_atomically(paths->bin, bin); !ok) return std::unexpected(ok.error());
     written.push_back(paths->bin);
   }
   auto file = file_bytes(*json, *paths, std::move(bin));
   if (!file) return std::unexpected(file.error());
-  if (auto ok = write_bytes(paths->gltf, *file); !ok) return std::unexpected(ok.error());
+  if (auto ok = write_file_atomically(paths->gltf, *file); !ok) return std::unexpected(ok.error());
   written.push_back(paths->gltf);
   return written;
 }

@@ -195,8 +195,131 @@ template <class L>
   return L::not_(L::both(rays, L::lt(cz, L::neg(grown))));
 }
 
-// The set-up of every triangle of `leaf` at the receiver of `frame`; returns the live lanes
-// (bit l: triangle l may block a ray). g_world (certain only) is 2 delta in world units.
+// The corners of the triangles of lanes l..l+7 (a, b, c) in the receiver frame, in units of r.
+template <class L>
+struct CornerLanes {
+  typename L::F ax, ay, az, bx, by, bz, cx, cy, cz;
+};
+
+// Step 1: the corners into the receiver frame. Returns the lanes with a corner above `horizon`
+// (world units: 0, or -g for certain); the corners are then scaled to units of r.
+template <class L>
+[[nodiscard, gnu::always_inline]] inline typename L::M corners_in_frame(const FrameLanes<L>& frame, const LeafBlock& leaf,
+                                                                        int l, typename L::F horizon, typename L::F inv_r,
+                                                                        CornerLanes<L>& t) {
+  to_frame<L>(frame, leaf.v0x + l, leaf.v0y + l, leaf.v0z + l, leaf.width, t.ax, t.ay, t.az);
+  to_frame<L>(frame, leaf.v1x + l, leaf.v1y + l, leaf.v1z + l, leaf.width, t.bx, t.by, t.bz);
+  to_frame<L>(frame, leaf.v2x + l, leaf.v2y + l, leaf.v2z + l, leaf.width, t.cx, t.cy, t.cz);
+  const auto above = L::not_(L::both(L::both(L::le(t.az, horizon), L::le(t.bz, horizon)), L::le(t.cz, horizon)));
+  t.ax = L::mul(t.ax, inv_r), t.ay = L::mul(t.ay, inv_r), t.az = L::mul(t.az, inv_r);
+  t.bx = L::mul(t.bx, inv_r), t.by = L::mul(t.by, inv_r), t.bz = L::mul(t.bz, inv_r);
+  t.cx = L::mul(t.cx, inv_r), t.cy = L::mul(t.cy, inv_r), t.cz = L::mul(t.cz, inv_r);
+  return above;
+}
+
+// The face plane of steps 2-3: the unit normal u of n = cross(b - a, c - a), the signed plane
+// distance sd = u . a and d = |sd|.
+template <class L>
+struct FaceLanes {
+  typename L::F ux, uy, uz, sd, d;
+  typename L::M facing;  // n . -a > 0: the receiver sees the front
+};
+
+// Steps 2-3: n, the facing, |n|, the unit normal and the plane distance. Clears the lanes of
+// `live` whose triangle has no normal (|n| 0, or beyond max).
+template <class L>
+[[nodiscard, gnu::always_inline]] inline FaceLanes<L> face_plane(const CornerLanes<L>& t, typename L::M& live) {
+  using F = typename L::F;
+  const F zero = L::set(0.0f), big = L::set(std::numeric_limits<float>::max());
+  const F ex = L::sub(t.bx, t.ax), ey = L::sub(t.by, t.ay), ez = L::sub(t.bz, t.az);
+  const F fx = L::sub(t.cx, t.ax), fy = L::sub(t.cy, t.ay), fz = L::sub(t.cz, t.az);
+  const F n_x = L::sub(L::mul(ey, fz), L::mul(fy, ez));
+  const F n_y = L::sub(L::mul(ez, fx), L::mul(fz, ex));
+  const F n_z = L::sub(L::mul(ex, fy), L::mul(fx, ey));
+  FaceLanes<L> f;
+  f.facing = L::gt(dot3<L>(n_x, n_y, n_z, L::neg(t.ax), L::neg(t.ay), L::neg(t.az)), zero);
+  const F n_length = L::sqrt(dot3<L>(n_x, n_y, n_z, n_x, n_y, n_z));
+  live = L::both(live, L::both(L::gt(n_length, zero), L::le(n_length, big)));
+  f.ux = L::div(n_x, n_length), f.uy = L::div(n_y, n_length), f.uz = L::div(n_z, n_length);
+  f.sd = dot3<L>(f.ux, f.uy, f.uz, t.ax, t.ay, t.az);
+  f.d = L::abs(f.sd);
+  return f;
+}
+
+// Steps 2-3's culls: the lanes of `live` whose plane is kept. Pure keeps a plane that faces the
+// receiver (or is two-sided) at 0 < d <= 1; certain (g_n: g in units of r) keeps d <= 1 + g, and
+// also a back face within g.
+template <bool Certain, class L>
+[[nodiscard, gnu::always_inline]] inline typename L::M face_kept(const FaceLanes<L>& f, typename L::M two_sided,
+                                                                 float g_n, typename L::M live) {
+  if constexpr (Certain) {
+    live = L::both(live, L::le(f.d, L::set(1.0f + g_n)));
+    return L::both(live, L::either(L::either(L::lt(f.d, L::set(g_n)), two_sided), f.facing));
+  } else {
+    live = L::both(live, L::either(two_sided, f.facing));
+    return L::both(live, L::both(L::le(f.d, L::set(1.0f)), L::gt(f.d, L::set(0.0f))));
+  }
+}
+
+// Step 4: the centre of the influence sphere in the receiver frame (world units), and the
+// lanes whose sphere, grown by `reach` (r, or r + g for certain), holds the receiver.
+template <class L>
+[[nodiscard, gnu::always_inline]] inline typename L::M sphere_reaches(const FrameLanes<L>& frame, const LeafBlock& leaf,
+                                                                      int l, float reach, typename L::F& ccx,
+                                                                      typename L::F& ccy, typename L::F& ccz) {
+  to_frame<L>(frame, leaf.cx + l, leaf.cy + l, leaf.cz + l, leaf.width, ccx, ccy, ccz);
+  const typename L::F grown = L::add(load_row<L>(leaf.radius + l, leaf.width), L::set(reach));
+  return L::le(dot3<L>(ccx, ccy, ccz, ccx, ccy, ccz), L::mul(grown, grown));
+}
+
+// Step 6: the face plane and the edge planes m_e = cross(p_e, p_e+1), oriented by the sign of
+// the plane distance, into `out`, and |m_e| into `length`. Returns the lanes of `live` whose
+// three edge planes are defined (1e-30 < |m_e|^2 <= max).
+template <class L>
+[[nodiscard, gnu::always_inline]] inline typename L::M store_planes(const CornerLanes<L>& t, const FaceLanes<L>& f,
+                                                                    typename L::M live, int l, LeafSetup& out,
+                                                                    typename L::F (&length)[3]) {
+  using F = typename L::F;
+  const F big = L::set(std::numeric_limits<float>::max());
+  const F sign = L::select(L::gt(f.sd, L::set(0.0f)), L::set(1.0f), L::set(-1.0f));
+  L::store(out.fx + l, L::mul(f.ux, sign)), L::store(out.fy + l, L::mul(f.uy, sign)), L::store(out.fz + l, L::mul(f.uz, sign));
+  L::store(out.fd + l, f.d);
+  const F* const corner[3][3] = {{&t.ax, &t.ay, &t.az}, {&t.bx, &t.by, &t.bz}, {&t.cx, &t.cy, &t.cz}};
+  auto defined = live;
+  for (int e = 0; e < 3; ++e) {
+    const F px = *corner[e][0], py = *corner[e][1], pz = *corner[e][2];
+    const F qx = *corner[(e + 1) % 3][0], qy = *corner[(e + 1) % 3][1], qz = *corner[(e + 1) % 3][2];
+    const F mx = L::mul(L::sub(L::mul(py, qz), L::mul(qy, pz)), sign);
+    const F my = L::mul(L::sub(L::mul(pz, qx), L::mul(qz, px)), sign);
+    const F mz = L::mul(L::sub(L::mul(px, qy), L::mul(qx, py)), sign);
+    const F length2 = dot3<L>(mx, my, mz, mx, my, mz);
+    defined = L::both(defined, L::both(L::gt(length2, L::set(1e-30f)), L::le(length2, big)));
+    length[e] = L::sqrt(length2);
+    L::store(out.ex[e] + l, mx), L::store(out.ey[e] + l, my), L::store(out.ez[e] + l, mz);
+    L::store(out.length[e] + l, length[e]);
+  }
+  return defined;
+}
+
+// Certain: a plane through (or numerically at) the origin, or an edge through it (`valid`
+// false), decides nothing for sure, so its lanes are flat with no margins; elsewhere the edge
+// planes' margins are g / d |m_e| and the edge cull widens by g / d.
+template <class L>
+[[gnu::always_inline]] inline void store_certain_margins(typename L::F d, typename L::M valid, typename L::F g,
+                                                         const typename L::F (&length)[3], int l, LeafSetup& out) {
+  using F = typename L::F;
+  const auto flat = L::either(L::lt(d, g), L::not_(valid));
+  const F g_over_d = L::div(g, d);
+  for (int e = 0; e < 3; ++e) {
+    L::store(out.margin[e] + l, L::select(flat, L::set(0.0f), L::mul(L::mul(g_over_d, length[e]), L::set(1.0f + 1e-5f))));
+  }
+  L::store(out.widen + l, L::mul(g_over_d, L::set(1.0f + 1e-5f)));
+  out.flat |= static_cast<std::uint32_t>(L::bits(flat)) << l;
+}
+
+// The set-up of every triangle of `leaf` at the receiver of `frame`, as triangle_mask's numbered
+// steps; returns the live lanes (bit l: triangle l may block a ray). g_world (certain only) is
+// 2 delta in world units.
 template <bool Certain>
 [[nodiscard]] inline std::uint32_t leaf_setup(const KernelContext& ctx, const LeafBlock& leaf, const Frame& frame,
                                               float g_world, LeafSetup& out) {
@@ -204,79 +327,33 @@ template <bool Certain>
   using F = typename L::F;
   const FrameLanes<L> frame_lanes(frame);
   const F inv_r = L::set(ctx.inv_radius);
-  const F zero = L::set(0.0f), one = L::set(1.0f), big = L::set(std::numeric_limits<float>::max());
   const float g_n = g_world * ctx.inv_radius;
   const F g = L::set(g_n);
   std::uint32_t live = 0;
   out.use_cone = 0;
   out.flat = 0;
   for (int l = 0; l < leaf.width; l += L::kWidth) {
+    CornerLanes<L> t;
     // 1. Into the receiver frame; the horizon (grown by g for certain).
-    F ax, ay, az, bx_, by_, bz_, cx, cy, cz, ccx, ccy, ccz;
-    to_frame<L>(frame_lanes, leaf.v0x + l, leaf.v0y + l, leaf.v0z + l, leaf.width, ax, ay, az);
-    to_frame<L>(frame_lanes, leaf.v1x + l, leaf.v1y + l, leaf.v1z + l, leaf.width, bx_, by_, bz_);
-    to_frame<L>(frame_lanes, leaf.v2x + l, leaf.v2y + l, leaf.v2z + l, leaf.width, cx, cy, cz);
-    const F horizon = Certain ? L::set(-g_world) : zero;
-    auto ok = L::not_(L::both(L::both(L::le(az, horizon), L::le(bz_, horizon)), L::le(cz, horizon)));
-    ax = L::mul(ax, inv_r), ay = L::mul(ay, inv_r), az = L::mul(az, inv_r);
-    bx_ = L::mul(bx_, inv_r), by_ = L::mul(by_, inv_r), bz_ = L::mul(bz_, inv_r);
-    cx = L::mul(cx, inv_r), cy = L::mul(cy, inv_r), cz = L::mul(cz, inv_r);
-    // 2-3. n = cross(b - a, c - a), the facing, |n|, the unit normal and the plane distance.
-    const F ex = L::sub(bx_, ax), ey = L::sub(by_, ay), ez = L::sub(bz_, az);
-    const F fx = L::sub(cx, ax), fy = L::sub(cy, ay), fz = L::sub(cz, az);
-    const F n_x = L::sub(L::mul(ey, fz), L::mul(fy, ez));
-    const F n_y = L::sub(L::mul(ez, fx), L::mul(fz, ex));
-    const F n_z = L::sub(L::mul(ex, fy), L::mul(fx, ey));
-    const auto facing = L::gt(dot3<L>(n_x, n_y, n_z, L::neg(ax), L::neg(ay), L::neg(az)), zero);
+    auto ok = corners_in_frame<L>(frame_lanes, leaf, l, Certain ? L::set(-g_world) : L::set(0.0f), inv_r, t);
+    // 2-3. The face plane, its facing and distance.
     const auto two_sided = L::from_bits(leaf.two_sided >> l);
-    const F n_length = L::sqrt(dot3<L>(n_x, n_y, n_z, n_x, n_y, n_z));
-    ok = L::both(ok, L::both(L::gt(n_length, zero), L::le(n_length, big)));
-    const F ux = L::div(n_x, n_length), uy = L::div(n_y, n_length), uz = L::div(n_z, n_length);
-    const F sd = dot3<L>(ux, uy, uz, ax, ay, az);
-    const F d = L::abs(sd);
-    if constexpr (Certain) {
-      ok = L::both(ok, L::le(d, L::set(1.0f + g_n)));
-      ok = L::both(ok, L::either(L::either(L::lt(d, g), two_sided), facing));
-    } else {
-      ok = L::both(ok, L::either(two_sided, facing));
-      ok = L::both(ok, L::both(L::le(d, one), L::gt(d, zero)));
-    }
+    const FaceLanes<L> face = face_plane<L>(t, ok);
+    ok = face_kept<Certain, L>(face, two_sided, g_n, ok);
     // 4. The influence sphere.
-    to_frame<L>(frame_lanes, leaf.cx + l, leaf.cy + l, leaf.cz + l, leaf.width, ccx, ccy, ccz);
-    const F reach = L::add(load_row<L>(leaf.radius + l, leaf.width), L::set(Certain ? ctx.radius + g_world : ctx.radius));
-    ok = L::both(ok, L::le(dot3<L>(ccx, ccy, ccz, ccx, ccy, ccz), L::mul(reach, reach)));
+    F ccx, ccy, ccz;
+    ok = L::both(ok, sphere_reaches<L>(frame_lanes, leaf, l, Certain ? ctx.radius + g_world : ctx.radius, ccx, ccy, ccz));
     // 5. The triangle itself within r (pure only: it is only a cull, see CertainSetup).
-    if constexpr (!Certain) ok = L::both(ok, L::le(origin_triangle_distance2_lanes<L>(ax, ay, az, bx_, by_, bz_, cx, cy, cz), one));
-    // 6. The four planes, oriented by the sign of the plane distance.
-    const F sign = L::select(L::gt(sd, zero), one, L::set(-1.0f));
-    L::store(out.fx + l, L::mul(ux, sign)), L::store(out.fy + l, L::mul(uy, sign)), L::store(out.fz + l, L::mul(uz, sign));
-    L::store(out.fd + l, d);
-    const F* const va[3][3] = {{&ax, &ay, &az}, {&bx_, &by_, &bz_}, {&cx, &cy, &cz}};
-    auto valid = ok;
-    F length[3];
-    for (int e = 0; e < 3; ++e) {
-      const F px = *va[e][0], py = *va[e][1], pz = *va[e][2];
-      const F qx = *va[(e + 1) % 3][0], qy = *va[(e + 1) % 3][1], qz = *va[(e + 1) % 3][2];
-      const F mx = L::mul(L::sub(L::mul(py, qz), L::mul(qy, pz)), sign);
-      const F my = L::mul(L::sub(L::mul(pz, qx), L::mul(qz, px)), sign);
-      const F mz = L::mul(L::sub(L::mul(px, qy), L::mul(qx, py)), sign);
-      const F length2 = dot3<L>(mx, my, mz, mx, my, mz);
-      valid = L::both(valid, L::both(L::gt(length2, L::set(1e-30f)), L::le(length2, big)));
-      length[e] = L::sqrt(length2);
-      L::store(out.ex[e] + l, mx), L::store(out.ey[e] + l, my), L::store(out.ez[e] + l, mz);
-      L::store(out.length[e] + l, length[e]);
+    if constexpr (!Certain) {
+      ok = L::both(ok, L::le(origin_triangle_distance2_lanes<L>(t.ax, t.ay, t.az, t.bx, t.by, t.bz, t.cx, t.cy, t.cz),
+                             L::set(1.0f)));
     }
+    // 6. The four planes; 6a. the cone of the clip sphere.
+    F length[3];
+    const auto valid = store_planes<L>(t, face, ok, l, out, length);
     L::store(out.ox + l, ccx), L::store(out.oy + l, ccy), L::store(out.oz + l, ccz);
     if constexpr (Certain) {
-      // A plane through (or numerically at) the origin, or an edge through it, decides nothing
-      // for sure.
-      const auto flat = L::either(L::lt(d, g), L::not_(valid));
-      const F g_over_d = L::div(g, d);
-      for (int e = 0; e < 3; ++e) {
-        L::store(out.margin[e] + l, L::select(flat, zero, L::mul(L::mul(g_over_d, length[e]), L::set(1.0f + 1e-5f))));
-      }
-      L::store(out.widen + l, L::mul(g_over_d, L::set(1.0f + 1e-5f)));
-      out.flat |= static_cast<std::uint32_t>(L::bits(flat)) << l;
+      store_certain_margins<L>(face.d, valid, g, length, l, out);
       ok = L::both(ok, certain_cone<L>(leaf, l, ccx, ccy, ccz, g_world, out));
     } else {
       ok = valid;

@@ -261,9 +261,7 @@ Command add_bench_command(CLI::App& app) {
       ->capture_default_str();
   command->add_flag("--embree-per-receiver", options->method.embree_per_receiver,
                     "Embree packets hold neighbouring samples of one receiver");
-  command->add_option("--table-resolution", options->method.table_resolution, "Look-up table cells per side (0: default)");
-  command->add_option("--branching", options->method.branching, "BVH children per node: 2 or 4")->capture_default_str();
-  command->add_option("--leaf-size", options->method.leaf_size, "Most triangles per BVH leaf: 1 to 8")->capture_default_str();
+  add_structure_options(*command, options->method);
   command->add_option("--receivers", options->receivers,
                       "Receivers: pixels (of the camera), vertices (of a vertex bake) or texels:SIZE[:SAMPLES] "
                       "(of a texture bake, SAMPLES per texel, default 1)")
@@ -273,10 +271,7 @@ Command add_bench_command(CLI::App& app) {
                       "eps_1 3^j serves the rest); off: none")
       ->delimiter(',')
       ->capture_default_str();
-  command->add_option("--lod-levels", options->lod_settings.levels, "Simplified levels, 1 to 8")->capture_default_str();
-  command->add_option("--lod-k", options->lod_settings.k, "Level i serves distances [k eps_i, k eps_(i+1)]")->capture_default_str();
-  command->add_option("--lod-overlap", options->lod_settings.overlap, "Level i starts at (k - overlap) eps_i")->capture_default_str();
-  command->add_option("--lod-filter", options->lod_settings.filter, "envelope or distance")->capture_default_str();
+  add_lod_level_options(*command, options->lod_settings);
   command->add_option("--repeats", options->repeats, "Interleaved repeats; the fastest time counts")->capture_default_str();
   command->add_option("--isa", options->isas,
                       "Instruction sets of the mask kernels, a list of auto, scalar, sse2, sse4, avx2, avx512 "

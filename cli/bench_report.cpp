@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <fstream>
 #include <map>
 #include <sstream>
 
@@ -15,15 +14,6 @@
 namespace exao::cli {
 namespace {
 
-Result<void> write_text(const std::string& text, const std::string& path) {
-  return write_atomically(path, [&](const std::string& temp) -> Result<void> {
-    std::ofstream out(temp);
-    out << text;
-    if (!out.flush()) return fail(path + ": write failed: " + system_reason());
-    return {};
-  });
-}
-
 std::string escape_xml(const std::string& s) {
   std::string out;
   for (const char c : s) {
@@ -34,6 +24,10 @@ std::string escape_xml(const std::string& s) {
   }
   return out;
 }
+
+// The chart's group of a row (one per N and radius) and its series (one per method and mask mode).
+std::string bar_group(const bench::Run& run) { return "N=" + std::to_string(run.samples) + ", r=" + run.radius_text; }
+std::string bar_series(const bench::Run& run) { return run.method + (run.method == "embree" ? "" : " (" + run.masks + ")"); }
 
 }  // namespace
 
@@ -110,7 +104,7 @@ Result<void> write_bench_json(const bench::Report& report, const std::string& pa
     }
     j["runs"].push_back(r);
   }
-  return write_text(j.dump(2) + "\n", path);
+  return write_file_atomically(path, j.dump(2) + "\n");
 }
 
 // Groups of bars, one group per (N, radius), one bar per method and mask mode, height Mrays/s.
@@ -131,14 +125,13 @@ Result<void> write_bench_markdown(const bench::Report& report, const std::string
     }
     md << line;
   }
-  return write_text(md.str(), path);
+  return write_file_atomically(path, md.str());
 }
 
 Result<void> write_bench_svg(const bench::Report& report, const std::string& path) {
   std::vector<std::string> groups, series;
   for (const bench::Run& run : report.runs) {
-    const std::string g = "N=" + std::to_string(run.samples) + ", r=" + run.radius_text;
-    const std::string s = run.method + (run.method == "embree" ? "" : " (" + run.masks + ")");
+    const std::string g = bar_group(run), s = bar_series(run);
     if (std::find(groups.begin(), groups.end(), g) == groups.end()) groups.push_back(g);
     if (std::find(series.begin(), series.end(), s) == series.end()) series.push_back(s);
   }
@@ -160,8 +153,7 @@ Result<void> write_bench_svg(const bench::Report& report, const std::string& pat
         << "<text x='" << left - 6 << "' y='" << y + 4 << "' text-anchor='end'>" << static_cast<int>(value) << "</text>\n";
   }
   for (const bench::Run& run : report.runs) {
-    const std::string g = "N=" + std::to_string(run.samples) + ", r=" + run.radius_text;
-    const std::string s = run.method + (run.method == "embree" ? "" : " (" + run.masks + ")");
+    const std::string g = bar_group(run), s = bar_series(run);
     const auto gi = std::find(groups.begin(), groups.end(), g) - groups.begin();
     const auto si = std::find(series.begin(), series.end(), s) - series.begin();
     const int h = static_cast<int>(plot_h * run.mrays_per_s / top);
@@ -179,7 +171,7 @@ Result<void> write_bench_svg(const bench::Report& report, const std::string& pat
         << "'/><text x='" << width - 172 << "' y='" << y << "'>" << escape_xml(series[si]) << "</text>\n";
   }
   svg << "</svg>\n";
-  return write_text(svg.str(), path);
+  return write_file_atomically(path, svg.str());
 }
 
 }  // namespace exao::cli

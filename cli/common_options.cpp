@@ -50,6 +50,13 @@ void add_camera_options(CLI::App& app, CameraOptions& options) {
   app.add_option("-H,--height", options.height, "Image height in pixels (default: from the camera's aspect, or 480)");
 }
 
+void add_structure_options(CLI::App& app, MethodOptions& options) {
+  app.add_option("--table-resolution", options.table_resolution, "Look-up table cells per side (0: the default for N)")
+      ->capture_default_str();
+  app.add_option("--branching", options.branching, "BVH children per node: 2 or 4")->capture_default_str();
+  app.add_option("--leaf-size", options.leaf_size, "Most triangles per BVH leaf: 1 to 8")->capture_default_str();
+}
+
 void add_method_options(CLI::App& app, MethodOptions& options) {
   app.add_option("--method", options.method,
                  "auto (masks, then Embree for the rays masks do not decide cheaply: Embree's answer on every ray), "
@@ -64,10 +71,7 @@ void add_method_options(CLI::App& app, MethodOptions& options) {
   app.add_option("--embree-rays", options.embree_rays, "single, packet4, packet8 or packet16")->capture_default_str();
   app.add_flag("--embree-per-receiver", options.embree_per_receiver,
                "Embree packets hold neighbouring samples of one receiver (default: one sample of neighbouring receivers)");
-  app.add_option("--table-resolution", options.table_resolution, "Look-up table cells per side (0: the default for N)")
-      ->capture_default_str();
-  app.add_option("--branching", options.branching, "BVH children per node: 2 or 4")->capture_default_str();
-  app.add_option("--leaf-size", options.leaf_size, "Most triangles per BVH leaf: 1 to 8")->capture_default_str();
+  add_structure_options(app, options);
   app.add_option("--isa", options.isa,
                  "Instruction set of the mask kernels: auto (EXAO_ISA, else the best this CPU runs), scalar, sse2, "
                  "sse4, avx2 or avx512; every one gives the same bits")

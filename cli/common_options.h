@@ -58,6 +58,9 @@ void add_scene_options(CLI::App& app, SceneOptions& options);
 void add_ray_options(CLI::App& app, RayOptions& options);
 void add_camera_options(CLI::App& app, CameraOptions& options);
 void add_method_options(CLI::App& app, MethodOptions& options);
+/// The shape of the structures the methods build: the look-up table's resolution, the BVH's
+/// branching and leaf size (part of add_method_options; `exao bench` takes them alone).
+void add_structure_options(CLI::App& app, MethodOptions& options);
 
 /// Opens the scene and prints what the loader skipped (one line each) to stderr.
 [[nodiscard]] Result<Scene> open_scene(const SceneOptions& options);

@@ -1,7 +1,6 @@
 #include "cli/compare_report.h"
 
 #include <cstdio>
-#include <fstream>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -12,16 +11,6 @@
 
 namespace exao::cli {
 namespace {
-
-Result<void> write_text(const std::string& text, const std::string& path) {
-  return write_atomically(path, [&](const std::string& temp) -> Result<void> {
-    std::ofstream out(temp, std::ios::binary);
-    out << text;
-    out.close();
-    if (!out) return fail(path + ": cannot write");
-    return {};
-  });
-}
 
 std::string slug(const std::string& name) {
   std::string out;
@@ -179,8 +168,8 @@ std::string compare_table(const ssao::Comparison& comparison, const ShadowRays& 
 Result<void> write_compare_report(const CompareCommandOptions& flags, const ssao::Comparison& comparison,
                                   const ShadowRays& rays, double stereo_ipd, const std::filesystem::path& dir) {
   const nlohmann::json j = compare_json(flags, comparison, rays, stereo_ipd);
-  if (auto ok = write_text(j.dump(2) + "\n", (dir / "compare.json").string()); !ok) return ok;
-  return write_text(compare_table(comparison, rays), (dir / "compare.md").string());
+  if (auto ok = write_file_atomically((dir / "compare.json").string(), j.dump(2) + "\n"); !ok) return ok;
+  return write_file_atomically((dir / "compare.md").string(), compare_table(comparison, rays));
 }
 
 void print_compare_summary(const CompareCommandOptions& o, const ssao::Comparison& comparison, const Scene& scene,

@@ -12,6 +12,10 @@ void add_lod_options(CLI::App& app, LodCliOptions& options) {
                  "raster: level of detail (paper Sec. 4.3): off, auto (eps_1 from r and the pixel size) or eps_1, "
                  "the first level's allowed error (world units)")
       ->capture_default_str();
+  add_lod_level_options(app, options);
+}
+
+void add_lod_level_options(CLI::App& app, LodCliOptions& options) {
   app.add_option("--lod-levels", options.levels, "raster: simplified levels L, 1 to 8 (eps_i = eps_1 3^(i-1))")
       ->capture_default_str();
   app.add_option("--lod-k", options.k, "raster: level i serves distances [k eps_i, k eps_(i+1)]; > 0 (paper: 2 to 5)")

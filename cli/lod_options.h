@@ -24,6 +24,9 @@ struct LodCliOptions {
 };
 
 void add_lod_options(CLI::App& app, LodCliOptions& options);
+/// The levels' shape alone (--lod-levels, --lod-k, --lod-overlap, --lod-filter): part of
+/// add_lod_options; `exao bench` takes its own list of --lod values.
+void add_lod_level_options(CLI::App& app, LodCliOptions& options);
 
 /// engine::Options::lod from the flags: nullopt for --lod off, eps1 0 for auto. Syntax only (the
 /// engine checks the ranges); errors name the option (lod_eps1, lod_filter), which report() prints

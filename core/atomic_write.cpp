@@ -6,6 +6,7 @@
 #include <charconv>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <mutex>
 
 #include <signal.h>
@@ -106,6 +107,17 @@ Result<void> write_atomically(const std::string& path,
   if (!written) fs::remove(temp_path, ec);
   release_slot(slot);
   return written;
+}
+
+Result<void> write_file_atomically(const std::string& path, std::string_view contents) {
+  return write_atomically(path, [&](const std::string& temp) -> Result<void> {
+    std::ofstream out(temp, std::ios::binary | std::ios::trunc);
+    out.write(contents.data(), static_cast<std::streamsize>(contents.size()));
+    // close(), not flush(): the last buffered bytes may only fail to reach the disk here.
+    out.close();
+    if (!out) return fail(path + ": write failed: " + system_reason());
+    return {};
+  });
 }
 
 void remove_unfinished_outputs() {

@@ -12,8 +12,11 @@
 // a power cut) cannot remove its own, so every write first removes those of NAME whose PID is
 // no longer a running process.
 
+#include <cstdint>
 #include <functional>
+#include <span>
 #include <string>
+#include <string_view>
 
 #include "core/error.h"
 
@@ -24,6 +27,13 @@ namespace exao {
 /// is not a regular file, is reported by name before `write` is called.
 [[nodiscard]] Result<void> write_atomically(
     const std::string& path, const std::function<Result<void>(const std::string& temp_path)>& write);
+
+/// Writes `contents` as the whole of the file at `path`, through write_atomically. A failed
+/// write is reported as "PATH: write failed: REASON", REASON the system's (system_reason).
+[[nodiscard]] Result<void> write_file_atomically(const std::string& path, std::string_view contents);
+[[nodiscard]] inline Result<void> write_file_atomically(const std::string& path, std::span<const std::uint8_t> contents) {
+  return write_file_atomically(path, std::string_view(reinterpret_cast<const char*>(contents.data()), contents.size()));
+}
 
 /// Removes every temporary file that write_atomically has not finished with; for a signal
 /// handler, so that an interrupted run leaves nothing behind. Async-signal-safe.

@@ -324,19 +324,16 @@ Result<SamplePattern> make_given_pattern(std::span<const glm::vec3> directions, 
 }
 
 Result<void> save_sample_pattern(const SamplePattern& pattern, const std::string& path) {
-  return write_atomically(path, [&](const std::string& temp) -> Result<void> {
-    std::ofstream out(temp);
-    out << "exao-sample-pattern 1\n"
-        << "samples " << pattern.count << "\nfalloff " << falloff_name(pattern.falloff)
-        << "\nseed " << pattern.seed << "\n";
-    out.precision(9);  // 9 significant digits give back every float exactly
-    for (int i = 0; i < pattern.count; ++i) {
-      const glm::vec3 d = pattern.directions[i];
-      out << d.x << ' ' << d.y << ' ' << d.z << ' ' << pattern.lengths[i] << '\n';
-    }
-    if (!out.flush()) return fail(path + ": write failed: " + system_reason());
-    return {};
-  });
+  std::ostringstream out;
+  out << "exao-sample-pattern 1\n"
+      << "samples " << pattern.count << "\nfalloff " << falloff_name(pattern.falloff)
+      << "\nseed " << pattern.seed << "\n";
+  out.precision(9);  // 9 significant digits give back every float exactly
+  for (int i = 0; i < pattern.count; ++i) {
+    const glm::vec3 d = pattern.directions[i];
+    out << d.x << ' ' << d.y << ' ' << d.z << ' ' << pattern.lengths[i] << '\n';
+  }
+  return write_file_atomically(path, out.str());
 }
 
 Result<SamplePattern> load_sample_pattern(const std::string& path) {

@@ -140,6 +140,20 @@ Geometry make_scene() {
 
 // --- Embree: the renderer's own ray tracer ---------------------------------------------------
 
+// A committed Embree triangle mesh of a soup (nine floats a triangle, each corner its own vertex).
+RTCGeometry soup_geometry(RTCDevice device, const std::vector<float>& positions) {
+  const std::size_t n = positions.size() / 9;
+  RTCGeometry mesh = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+  auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(mesh, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                        3 * sizeof(float), 3 * n));
+  auto* index = static_cast<unsigned*>(rtcSetNewGeometryBuffer(mesh, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                               3 * sizeof(unsigned), n));
+  std::memcpy(v, positions.data(), positions.size() * sizeof(float));
+  for (unsigned i = 0; i < 3 * n; ++i) index[i] = i;
+  rtcCommitGeometry(mesh);
+  return mesh;
+}
+
 struct Tracer {
   RTCDevice device = nullptr;
   RTCScene scene = nullptr;
@@ -147,28 +161,12 @@ struct Tracer {
   explicit Tracer(const Geometry& g) {
     device = rtcNewDevice(nullptr);
     scene = rtcNewScene(device);
-    const std::size_t n = g.two_sided.size();
-    RTCGeometry mesh = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(mesh, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                          3 * sizeof(float), 3 * n));
-    auto* index = static_cast<unsigned*>(rtcSetNewGeometryBuffer(mesh, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                                 3 * sizeof(unsigned), n));
-    std::memcpy(v, g.positions.data(), g.positions.size() * sizeof(float));
-    for (unsigned i = 0; i < 3 * n; ++i) index[i] = i;
-    rtcCommitGeometry(mesh);
+    RTCGeometry mesh = soup_geometry(device, g.positions);
     rtcAttachGeometryByID(scene, mesh, 0);
     rtcReleaseGeometry(mesh);
     // The pebble once, in a scene of its own, placed by Embree instances (geometry 1, 2, ...).
     pebble = rtcNewScene(device);
-    const std::size_t m = g.pebble.size() / 9;
-    RTCGeometry shape = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    auto* pv = static_cast<float*>(rtcSetNewGeometryBuffer(shape, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                           3 * sizeof(float), 3 * m));
-    auto* pi = static_cast<unsigned*>(rtcSetNewGeometryBuffer(shape, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                              3 * sizeof(unsigned), m));
-    std::memcpy(pv, g.pebble.data(), g.pebble.size() * sizeof(float));
-    for (unsigned i = 0; i < 3 * m; ++i) pi[i] = i;
-    rtcCommitGeometry(shape);
+    RTCGeometry shape = soup_geometry(device, g.pebble);
     rtcAttachGeometry(pebble, shape);
     rtcReleaseGeometry(shape);
     rtcCommitScene(pebble);

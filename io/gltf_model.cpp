@@ -14,6 +14,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -48,35 +49,25 @@ int component_size(int component_type) {
   }
 }
 
-// One component, decoded as glTF says: normalized integers map to [0, 1] or [-1, 1]
-// (glTF 2.0 section 3.11, "max(c / 127, -1)" and so on); others convert as is.
+// One integer component of type T at p; normalized, it maps to [0, 1] (unsigned) or [-1, 1]
+// (signed: glTF 2.0 section 3.11, "max(c / 127, -1)" and so on), else converts as is.
+template <class T>
+double integer_component(const unsigned char* p, bool normalized) {
+  T v;
+  std::memcpy(&v, p, sizeof v);
+  if (!normalized) return v;
+  constexpr double kTop = std::numeric_limits<T>::max();
+  return std::is_signed_v<T> ? std::max(v / kTop, -1.0) : v / kTop;
+}
+
+// One component, decoded as glTF says (integer_component); floats convert as is.
 double read_component(const unsigned char* p, int component_type, bool normalized) {
   switch (component_type) {
-    case kByte: {
-      std::int8_t v;
-      std::memcpy(&v, p, sizeof v);
-      return normalized ? std::max(v / 127.0, -1.0) : v;
-    }
-    case kUnsignedByte: {
-      std::uint8_t v;
-      std::memcpy(&v, p, sizeof v);
-      return normalized ? v / 255.0 : v;
-    }
-    case kShort: {
-      std::int16_t v;
-      std::memcpy(&v, p, sizeof v);
-      return normalized ? std::max(v / 32767.0, -1.0) : v;
-    }
-    case kUnsignedShort: {
-      std::uint16_t v;
-      std::memcpy(&v, p, sizeof v);
-      return normalized ? v / 65535.0 : v;
-    }
-    case kUnsignedInt: {
-      std::uint32_t v;
-      std::memcpy(&v, p, sizeof v);
-      return normalized ? v / 4294967295.0 : v;
-    }
+    case kByte: return integer_component<std::int8_t>(p, normalized);
+    case kUnsignedByte: return integer_component<std::uint8_t>(p, normalized);
+    case kShort: return integer_component<std::int16_t>(p, normalized);
+    case kUnsignedShort: return integer_component<std::uint16_t>(p, normalized);
+    case kUnsignedInt: return integer_component<std::uint32_t>(p, normalized);
     default: {  // kFloat: the caller allows no other type
       float v;
       std::memcpy(&v, p, sizeof v);

@@ -9,6 +9,7 @@
 #include <optional>
 #include <sstream>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -36,8 +37,10 @@ T load(const unsigned char* p, bool swap) {
 }
 
 // A value of an integer or floating type, as CGAL's reader turns it into its own: a double for
-// coordinates, an integer for counts and indices.
-double as_double(const unsigned char* p, Type t, bool swap) {
+// coordinates (Number double), an integer for counts and indices (Number std::int64_t, for
+// which a floating type reads as 0).
+template <class Number>
+Number as_number(const unsigned char* p, Type t, bool swap) {
   switch (t) {
     case Type::I8: return static_cast<std::int8_t>(p[0]);
     case Type::U8: return p[0];
@@ -45,23 +48,15 @@ double as_double(const unsigned char* p, Type t, bool swap) {
     case Type::U16: return load<std::uint16_t>(p, swap);
     case Type::I32: return load<std::int32_t>(p, swap);
     case Type::U32: return load<std::uint32_t>(p, swap);
-    case Type::F32: return load<float>(p, swap);
-    case Type::F64: return load<double>(p, swap);
-    case Type::None: return 0.0;
+    case Type::F32:
+      if constexpr (std::is_floating_point_v<Number>) return load<float>(p, swap);
+      return 0;
+    case Type::F64:
+      if constexpr (std::is_floating_point_v<Number>) return load<double>(p, swap);
+      return 0;
+    case Type::None: return 0;
   }
-  return 0.0;
-}
-
-std::int64_t as_integer(const unsigned char* p, Type t, bool swap) {
-  switch (t) {
-    case Type::I8: return static_cast<std::int8_t>(p[0]);
-    case Type::U8: return p[0];
-    case Type::I16: return load<std::int16_t>(p, swap);
-    case Type::U16: return load<std::uint16_t>(p, swap);
-    case Type::I32: return load<std::int32_t>(p, swap);
-    case Type::U32: return load<std::uint32_t>(p, swap);
-    default: return 0;
-  }
+  return 0;
 }
 
 constexpr std::uint64_t kProgressStep = 1 << 16;  // faces between progress reports
@@ -159,9 +154,9 @@ Result<std::vector<glm::vec3>> read_points(const std::vector<ply::Element>& elem
     for (std::uint64_t v = 0; v < e.count; ++v, in.pos += e.scalar_bytes) {
       const unsigned char* p = in.bytes + in.pos;
       // CGAL reads a double, then exao rounds it to float: the same floats either way.
-      points[v] = glm::vec3(static_cast<float>(as_double(p + layout.offset[0], layout.coordinate[0], in.swap)),
-                            static_cast<float>(as_double(p + layout.offset[1], layout.coordinate[1], in.swap)),
-                            static_cast<float>(as_double(p + layout.offset[2], layout.coordinate[2], in.swap)));
+      points[v] = glm::vec3(static_cast<float>(as_number<double>(p + layout.offset[0], layout.coordinate[0], in.swap)),
+                            static_cast<float>(as_number<double>(p + layout.offset[1], layout.coordinate[1], in.swap)),
+                            static_cast<float>(as_number<double>(p + layout.offset[2], layout.coordinate[2], in.swap)));
     }
   }
   return points;
@@ -194,7 +189,7 @@ Result<void> read_polygon(Cursor& in, const FaceEntry& entry, std::uint64_t f, s
                           std::vector<std::size_t>& polygon) {
   if (in.left() < entry.before + entry.count_size) return truncated("element 'face' entry " + std::to_string(f));
   in.pos += entry.before;
-  const std::int64_t n = as_integer(in.bytes + in.pos, entry.count_type, in.swap);
+  const std::int64_t n = as_number<std::int64_t>(in.bytes + in.pos, entry.count_type, in.swap);
   in.pos += entry.count_size;
   if (n < 0 || static_cast<std::uint64_t>(n) > in.left() / entry.index_size) {
     return fail("element 'face' entry " + std::to_string(f) + ": a list of " + std::to_string(n) +
@@ -203,7 +198,7 @@ Result<void> read_polygon(Cursor& in, const FaceEntry& entry, std::uint64_t f, s
   polygon.resize(static_cast<std::size_t>(n));
   for (std::int64_t k = 0; k < n; ++k, in.pos += entry.index_size) {
     // As CGAL stores it: the index converted to size_t (a negative one wraps, and is refused).
-    const auto v = static_cast<std::size_t>(as_integer(in.bytes + in.pos, entry.index_type, in.swap));
+    const auto v = static_cast<std::size_t>(as_number<std::int64_t>(in.bytes + in.pos, entry.index_type, in.swap));
     if (v >= vertex_count) {
       return fail("face " + std::to_string(f + 1) + " refers to vertex " + std::to_string(static_cast<long long>(v)) +
                   ", file has " + std::to_string(vertex_count));

@@ -1,65 +1,71 @@
 #include "raster/stats.h"
 
 #include <cstdio>
+#include <iterator>
 
 namespace exao::raster {
+namespace {
+
+// Every counter of RasterStats once, in the order format_stats prints it, with its label: the
+// one list that both summing and printing walk, so a new counter cannot be summed but not
+// printed (or the reverse). Table 2's lines are printed only when counted (RasterOptions::stats),
+// its rows with their share of horizon_passed.
+enum class Line { Count, Table2Count, Table2Row };
+struct Counter {
+  std::uint64_t RasterStats::*value;
+  const char* label;
+  Line line;
+};
+constexpr Counter kCounters[] = {
+    {&RasterStats::receivers, "receivers", Line::Count},
+    {&RasterStats::triangles, "triangles", Line::Count},
+    {&RasterStats::prisms, "volumes: prisms", Line::Count},
+    {&RasterStats::billboards, "volumes: billboards", Line::Count},
+    {&RasterStats::boxes, "volumes: boxes", Line::Count},
+    {&RasterStats::volumes_off, "volumes reaching no receiver", Line::Count},
+    {&RasterStats::tile_volumes, "(tile, volume) pairs drawn", Line::Count},
+    {&RasterStats::fragments, "far-face fragments", Line::Table2Count},
+    {&RasterStats::depth_passed, "depth test only", Line::Table2Row},
+    {&RasterStats::far_depth_passed, "+ 1. far depth", Line::Table2Row},
+    {&RasterStats::sphere_passed, "+ 2. bounding sphere", Line::Table2Row},
+    {&RasterStats::facing_passed, "+ 3. triangle facing", Line::Table2Row},
+    {&RasterStats::plane_passed, "+ 4. plane distance", Line::Table2Row},
+    {&RasterStats::horizon_passed, "+ 5. hemisphere facing", Line::Table2Row},
+    {&RasterStats::full_skipped, "skipped: pixel fully occluded", Line::Table2Count},
+    {&RasterStats::sphere_mask_skipped, "skipped: sphere mask adds no ray", Line::Count},
+    {&RasterStats::masks, "masks computed", Line::Count},
+    {&RasterStats::masks_nonempty, "masks non-empty", Line::Count},
+};
+static_assert(sizeof(RasterStats) == std::size(kCounters) * sizeof(std::uint64_t),
+              "every counter of RasterStats is in kCounters");
+
+}  // namespace
 
 RasterStats& RasterStats::operator+=(const RasterStats& o) {
-  receivers += o.receivers;
-  triangles += o.triangles;
-  prisms += o.prisms;
-  billboards += o.billboards;
-  boxes += o.boxes;
-  volumes_off += o.volumes_off;
-  tile_volumes += o.tile_volumes;
-  sphere_mask_skipped += o.sphere_mask_skipped;
-  masks += o.masks;
-  masks_nonempty += o.masks_nonempty;
-  fragments += o.fragments;
-  depth_passed += o.depth_passed;
-  far_depth_passed += o.far_depth_passed;
-  sphere_passed += o.sphere_passed;
-  facing_passed += o.facing_passed;
-  plane_passed += o.plane_passed;
-  horizon_passed += o.horizon_passed;
-  full_skipped += o.full_skipped;
+  for (const Counter& c : kCounters) this->*c.value += o.*c.value;
   return *this;
 }
 
 std::string format_stats(const RasterStats& s) {
+  const bool table2 = s.depth_passed > 0;
+  const double all = s.horizon_passed > 0 ? static_cast<double>(s.horizon_passed) : 1.0;
   std::string out;
+  bool table2_headed = false;
   char line[160];
-  const auto add = [&](const char* label, std::uint64_t value) {
-    std::snprintf(line, sizeof line, "  %-30s %14llu\n", label, static_cast<unsigned long long>(value));
+  for (const Counter& c : kCounters) {
+    const auto value = static_cast<unsigned long long>(s.*c.value);
+    if (c.line != Line::Count && !table2) continue;
+    if (c.line != Line::Count && !table2_headed) {
+      out += "  culling tests (paper Table 2): fragments reaching the mask, relative to all tests on\n";
+      table2_headed = true;
+    }
+    if (c.line == Line::Table2Row) {
+      std::snprintf(line, sizeof line, "    %-28s %14llu  %6.2f\n", c.label, value, static_cast<double>(value) / all);
+    } else {
+      std::snprintf(line, sizeof line, "  %-30s %14llu\n", c.label, value);
+    }
     out += line;
-  };
-  add("receivers", s.receivers);
-  add("triangles", s.triangles);
-  add("volumes: prisms", s.prisms);
-  add("volumes: billboards", s.billboards);
-  add("volumes: boxes", s.boxes);
-  add("volumes reaching no receiver", s.volumes_off);
-  add("(tile, volume) pairs drawn", s.tile_volumes);
-  if (s.depth_passed > 0) {
-    out += "  culling tests (paper Table 2): fragments reaching the mask, relative to all tests on\n";
-    const double all = s.horizon_passed > 0 ? static_cast<double>(s.horizon_passed) : 1.0;
-    const auto row = [&](const char* label, std::uint64_t value) {
-      std::snprintf(line, sizeof line, "    %-28s %14llu  %6.2f\n", label, static_cast<unsigned long long>(value),
-                    static_cast<double>(value) / all);
-      out += line;
-    };
-    add("far-face fragments", s.fragments);
-    row("depth test only", s.depth_passed);
-    row("+ 1. far depth", s.far_depth_passed);
-    row("+ 2. bounding sphere", s.sphere_passed);
-    row("+ 3. triangle facing", s.facing_passed);
-    row("+ 4. plane distance", s.plane_passed);
-    row("+ 5. hemisphere facing", s.horizon_passed);
-    add("skipped: pixel fully occluded", s.full_skipped);
   }
-  add("skipped: sphere mask adds no ray", s.sphere_mask_skipped);
-  add("masks computed", s.masks);
-  add("masks non-empty", s.masks_nonempty);
   return out;
 }
 

@@ -25,7 +25,9 @@ samples = int(args[2]) if len(args) > 2 else 256
 
 here = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(here, "..", "blender"))
+sys.path.insert(0, here)
 import exao_bake  # noqa: E402
+from cycles_ao import attribute_values, use_cycles_ao  # noqa: E402
 
 bpy.ops.wm.read_factory_settings(use_empty=True)
 exao_bake.register()
@@ -45,10 +47,7 @@ def select_grid():
 
 
 def values(name):
-    attr = grid.data.color_attributes[name]
-    rgba = np.empty(len(attr.data) * 4, np.float32)
-    attr.data.foreach_get("color", rgba)
-    return rgba.reshape(-1, 4)[:, 0]
+    return attribute_values(grid.data.color_attributes[name])
 
 
 s = bpy.context.scene.exao_bake
@@ -56,14 +55,7 @@ s.samples, s.distance_mode, s.distance, s.attribute = samples, "UNITS", d, "exao
 select_grid()
 assert bpy.ops.object.exao_bake_ao() == {"FINISHED"}
 
-scene = bpy.context.scene
-scene.render.engine = "CYCLES"
-scene.cycles.device = "CPU"
-scene.cycles.samples = samples
-scene.cycles.use_denoising = False
-scene.cycles.use_adaptive_sampling = False
-scene.world = bpy.data.worlds.new("World")
-scene.world.light_settings.distance = d
+use_cycles_ao(bpy.context.scene, samples, d)
 grid.data.color_attributes.active_color = grid.data.color_attributes.new("cycles_AO", "FLOAT_COLOR", "POINT")
 select_grid()
 assert bpy.ops.object.bake(type="AO", target="VERTEX_COLORS") == {"FINISHED"}

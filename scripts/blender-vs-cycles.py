@@ -37,7 +37,9 @@ ground = "--ground" in args
 
 here = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(here, "..", "blender"))
+sys.path.insert(0, here)
 import exao_bake  # noqa: E402
+from cycles_ao import attribute_values, use_cycles_ao  # noqa: E402
 
 bpy.ops.wm.read_factory_settings(use_empty=True)
 exao_bake.register()
@@ -84,33 +86,21 @@ assert bpy.ops.object.exao_bake_ao() == {"FINISHED"}
 exao_seconds = time.perf_counter() - t
 attr = mesh.color_attributes["exao_AO"]
 assert attr.domain == "POINT"
-exao_ao = np.empty(len(attr.data) * 4, np.float32)
-attr.data.foreach_get("color", exao_ao)
-exao_ao = exao_ao.reshape(-1, 4)[:, 0]
+exao_ao = attribute_values(attr)
 split = dict(exao_bake.last_timings)
 split["operator (undo step, reports)"] = exao_seconds - sum(split.values())
 print(f"exao add-on ({exao_bake.backend_name()}): {exao_seconds:.2f} s = "
       + " + ".join(f"{k} {v:.2f} s" for k, v in split.items()))
 
 # --- Cycles: bake type AO into a color attribute ----------------------------------------------
-scene = bpy.context.scene
-scene.render.engine = "CYCLES"
-scene.cycles.device = "CPU"
-scene.cycles.samples = samples
-scene.cycles.use_denoising = False
-scene.cycles.use_adaptive_sampling = False
-if scene.world is None:
-    scene.world = bpy.data.worlds.new("World")
-scene.world.light_settings.distance = distance
+use_cycles_ao(bpy.context.scene, samples, distance)
 cycles_attr = mesh.color_attributes.new("cycles_AO", "FLOAT_COLOR", "POINT")
 mesh.color_attributes.active_color = cycles_attr
 t = time.perf_counter()
 result = bpy.ops.object.bake(type="AO", target="VERTEX_COLORS")
 cycles_seconds = time.perf_counter() - t
 assert result == {"FINISHED"}, result
-cyc = np.empty(len(cycles_attr.data) * 4, np.float32)
-mesh.color_attributes["cycles_AO"].data.foreach_get("color", cyc)
-cyc = cyc.reshape(-1, 4)[:, 0]
+cyc = attribute_values(mesh.color_attributes["cycles_AO"])
 print(f"Cycles AO bake: {cycles_seconds:.2f} s")
 print(f"exao is {cycles_seconds / exao_seconds:.1f}x faster; mean AO exao {exao_ao.mean():.4f}, Cycles {cyc.mean():.4f}, "
       f"mean |difference| {np.abs(exao_ao - cyc).mean():.4f}")

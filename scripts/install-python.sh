@@ -8,12 +8,4 @@ set -euo pipefail
 
 packages=(python3 python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pytest blender xvfb xauth)
 
-missing=()
-for p in "${packages[@]}"; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
-done
-if [ ${#missing[@]} -gt 0 ]; then
-  export DEBIAN_FRONTEND=noninteractive
-  apt-get update -qq
-  apt-get install -y -qq --no-install-recommends "${missing[@]}"
-fi
+bash "$(dirname "${BASH_SOURCE[0]}")/install-missing-packages.sh" "${packages[@]}"

@@ -11,6 +11,7 @@ vertices as %.9g, which round-trips a float). --points also writes COUNT receive
 for every N, so that AO times compare. Standard library only.
 """
 import array
+import itertools
 import json
 import math
 import os
@@ -86,50 +87,40 @@ def write_text(path, lines):
     os.replace(path + ".tmp", path)
 
 
-def write_obj(n, path):
+def vertex_rows(n, prefix=""):
+    """Per grid row, its vertices as text lines "PREFIX x y z" (%.9g, which round-trips a float)."""
     h = grid_heights(n)
+    for j in range(n + 1):
+        y = j / n
+        yield "".join(f"{prefix}{i / n:.9g} {y:.9g} {h[j * (n + 1) + i]:.9g}\n" for i in range(n + 1))
 
-    def lines():
-        yield f"# bumpy terrain {n}x{n}\no terrain\n"
-        for j in range(n + 1):
-            y = j / n
-            yield "".join(f"v {i / n:.9g} {y:.9g} {h[j * (n + 1) + i]:.9g}\n" for i in range(n + 1))
+
+def counted_face_rows(n):
+    """Per grid row, its triangles as OFF and ASCII PLY write them: the count 3, then the indices."""
+    for j in range(n):
+        yield "".join(f"3 {a} {b} {d}\n3 {a} {d} {c}\n" for a, b, c, d in quads(n, [j]))
+
+
+def write_obj(n, path):
+    def faces():
         for j in range(n):
             # OBJ numbers vertices from 1.
             yield "".join(f"f {a + 1} {b + 1} {d + 1}\nf {a + 1} {d + 1} {c + 1}\n"
                           for a, b, c, d in quads(n, [j]))
 
-    write_text(path, lines())
+    write_text(path, itertools.chain([f"# bumpy terrain {n}x{n}\no terrain\n"], vertex_rows(n, "v "), faces()))
 
 
 def write_off(n, path):
-    h = grid_heights(n)
-
-    def lines():
-        yield f"OFF\n{(n + 1) ** 2} {2 * n * n} 0\n"
-        for j in range(n + 1):
-            y = j / n
-            yield "".join(f"{i / n:.9g} {y:.9g} {h[j * (n + 1) + i]:.9g}\n" for i in range(n + 1))
-        for j in range(n):
-            yield "".join(f"3 {a} {b} {d}\n3 {a} {d} {c}\n" for a, b, c, d in quads(n, [j]))
-
-    write_text(path, lines())
+    header = f"OFF\n{(n + 1) ** 2} {2 * n * n} 0\n"
+    write_text(path, itertools.chain([header], vertex_rows(n), counted_face_rows(n)))
 
 
 def write_ascii_ply(n, path):
-    h = grid_heights(n)
-
-    def lines():
-        yield (f"ply\nformat ascii 1.0\ncomment bumpy terrain {n}x{n}\nelement vertex {(n + 1) ** 2}\n"
-               f"property float x\nproperty float y\nproperty float z\nelement face {2 * n * n}\n"
-               f"property list uchar int vertex_indices\nend_header\n")
-        for j in range(n + 1):
-            y = j / n
-            yield "".join(f"{i / n:.9g} {y:.9g} {h[j * (n + 1) + i]:.9g}\n" for i in range(n + 1))
-        for j in range(n):
-            yield "".join(f"3 {a} {b} {d}\n3 {a} {d} {c}\n" for a, b, c, d in quads(n, [j]))
-
-    write_text(path, lines())
+    header = (f"ply\nformat ascii 1.0\ncomment bumpy terrain {n}x{n}\nelement vertex {(n + 1) ** 2}\n"
+              f"property float x\nproperty float y\nproperty float z\nelement face {2 * n * n}\n"
+              f"property list uchar int vertex_indices\nend_header\n")
+    write_text(path, itertools.chain([header], vertex_rows(n), counted_face_rows(n)))
 
 
 def write_glb(n, path):
