@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <string>
 
@@ -72,8 +73,8 @@ void set_sphere(Node& node, int slot, const Bvh& bvh, std::uint32_t first, std::
   for (std::uint32_t t = first; t < last;) {
     const LeafBlock block = triangle_block(bvh, t);
     for (int l = triangle_lane(bvh, t); l < static_cast<int>(block.count) && t < last; ++l, ++t) {
-      const glm::dvec3 c(block.cx[l], block.cy[l], block.cz[l]);
-      radius = std::max(radius, glm::length(c - centre) + double(block.radius[l]));
+      const glm::dvec3 c(block.cx()[l], block.cy()[l], block.cz()[l]);
+      radius = std::max(radius, glm::length(c - centre) + double(block.radius()[l]));
     }
   }
   node.centre_x[slot] = centre_f.x;
@@ -89,15 +90,18 @@ void put_lane(float* rows, int width, int l, const glm::vec3& v0, const glm::vec
   for (int r = 0; r < kLeafRows; ++r) rows[r * width + l] = values[r];
 }
 
-// The rows and flags of the leaf of triangles [first, first + size), from the source's triangles
-// in the tree's order; lanes past the leaf NaN. Returns the largest |coordinate| of its vertices.
+// The header and rows of the leaf of triangles [first, first + size), from the source's
+// triangles in the tree's order, at `place`; lanes past the leaf NaN. Returns the largest
+// |coordinate| of its vertices.
 template <class Source>
 float make_leaf(const Source& source, const std::vector<std::uint32_t>& order, std::uint32_t first, int size,
-                float* rows, LeafRecord& record) {
+                float* place) {
   const float nan = std::numeric_limits<float>::quiet_NaN();
   const int width = leaf_width(size);
-  record.first = first;
-  record.count = static_cast<std::uint8_t>(size);
+  float* rows = place + kLeafHeaderFloats;
+  LeafHeader header{};
+  header.first = first;
+  header.count = static_cast<std::uint8_t>(size);
   float largest = 0.0f;
   for (int l = 0; l < width; ++l) {
     if (l >= size) {
@@ -107,10 +111,11 @@ float make_leaf(const Source& source, const std::vector<std::uint32_t>& order, s
     }
     const lut::PackedTriangle t = source.packed(order[first + static_cast<std::uint32_t>(l)]);
     put_lane(rows, width, l, t.v0, t.v1, t.v2, t.centre, t.radius);
-    if (t.two_sided) record.two_sided |= static_cast<std::uint8_t>(1u << l);
-    if (t.cutout) record.cutout |= static_cast<std::uint8_t>(1u << l);
+    if (t.two_sided) header.two_sided |= static_cast<std::uint8_t>(1u << l);
+    if (t.cutout) header.cutout |= static_cast<std::uint8_t>(1u << l);
     for (const glm::vec3& v : {t.v0, t.v1, t.v2}) largest = std::max({largest, std::abs(v.x), std::abs(v.y), std::abs(v.z)});
   }
+  std::memcpy(place, &header, sizeof header);
   return largest;
 }
 
@@ -150,26 +155,22 @@ Result<Bvh> build_from(const Source& source, const BvhOptions& options, const Pr
     });
   }
 
-  // One leaf record per leaf in node order, then slot order, and its rows at its offset.
-  std::vector<std::uint32_t> first_leaf(bvh.nodes.size() + 1, 0);
+  // The leaves in node order, then slot order: a leaf slot's child becomes its place in
+  // leaf_floats (it was the leaf's first triangle, which the header keeps).
   std::vector<std::uint64_t> first_float(bvh.nodes.size() + 1, 0);
   for (std::size_t i = 0; i < bvh.nodes.size(); ++i) {
     const Node& node = bvh.nodes[i];
-    std::uint32_t leaves = 0;
     std::uint64_t floats = 0;
     for (int k = 0; k < node.child_count; ++k) {
       if (node.leaf_size[k] == 0) continue;
-      ++leaves;
-      floats += static_cast<std::uint64_t>(kLeafRows * leaf_width(node.leaf_size[k]));
+      ++bvh.leaf_count;
+      floats += static_cast<std::uint64_t>(leaf_floats_of(node.leaf_size[k]));
     }
-    first_leaf[i + 1] = first_leaf[i] + leaves;
     first_float[i + 1] = first_float[i] + floats;
   }
   if (first_float.back() > std::numeric_limits<std::uint32_t>::max()) {
     return fail("bvh: " + std::to_string(n) + " triangles need more leaf floats than 32-bit offsets address");
   }
-  reserve_huge(bvh.leaves, first_leaf.back());
-  bvh.leaves.resize(first_leaf.back());
   reserve_huge(bvh.leaf_floats, first_float.back());
   bvh.leaf_floats.resize(first_float.back());
   reserve_huge(bvh.leaf_of, n);
@@ -180,20 +181,17 @@ Result<Bvh> build_from(const Source& source, const BvhOptions& options, const Pr
       [&](const tbb::blocked_range<std::size_t>& range, float largest) {
         std::size_t triangles = 0;
         for (std::size_t i = range.begin(); i != range.end(); ++i) {
-          const Node& node = bvh.nodes[i];
-          std::uint32_t leaf = first_leaf[i];
-          auto offset = static_cast<std::uint32_t>(first_float[i]);
+          Node& node = bvh.nodes[i];
+          auto place = static_cast<std::uint32_t>(first_float[i]);
           for (int k = 0; k < node.child_count; ++k) {
             const int size = node.leaf_size[k];
             if (size == 0) continue;
             const std::uint32_t first = node.child[k];
-            LeafRecord& record = bvh.leaves[leaf];
-            record.offset = offset;
-            largest = std::max(largest, make_leaf(source, bvh.scene_triangle, first, size, bvh.leaf_floats.data() + offset, record));
-            for (int l = 0; l < size; ++l) bvh.leaf_of[first + static_cast<std::uint32_t>(l)] = leaf;
+            largest = std::max(largest, make_leaf(source, bvh.scene_triangle, first, size, bvh.leaf_floats.data() + place));
+            for (int l = 0; l < size; ++l) bvh.leaf_of[first + static_cast<std::uint32_t>(l)] = place;
+            node.child[k] = place;
             triangles += static_cast<std::size_t>(size);
-            offset += static_cast<std::uint32_t>(kLeafRows * leaf_width(size));
-            ++leaf;
+            place += static_cast<std::uint32_t>(leaf_floats_of(size));
           }
         }
         if (progress) progress(n + (placed += triangles), 2 * n);
@@ -229,9 +227,9 @@ Extent refit_node(Bvh& bvh, std::uint32_t index) {
     if (node.leaf_size[k] == 0) {
       child = refit_node(bvh, node.child[k]);
     } else {
-      child.first = node.child[k];
-      child.last = node.child[k] + node.leaf_size[k];
-      const LeafBlock block = triangle_block(bvh, child.first);
+      const LeafBlock block = bvh.leaf_at(node.child[k]);
+      child.first = block.first;
+      child.last = block.first + block.count;
       for (int l = 0; l < node.leaf_size[k]; ++l) {
         const lut::PackedTriangle t = block_triangle(block, l);
         for (const glm::vec3& v : {t.v0, t.v1, t.v2}) {
@@ -278,28 +276,35 @@ Result<Bvh> Bvh::build(Scene&& scene, const BvhOptions& options, const ProgressC
 BvhBytes memory_bytes(const Bvh& bvh) {
   BvhBytes bytes;
   bytes.nodes = bvh.nodes.capacity() * sizeof(Node);
-  bytes.leaves = bvh.leaf_floats.capacity() * sizeof(float) + bvh.leaves.capacity() * sizeof(LeafRecord);
+  bytes.leaves = bvh.leaf_floats.capacity() * sizeof(float);
   bytes.indices = (bvh.scene_triangle.capacity() + bvh.leaf_of.capacity() + bvh.object.capacity()) * sizeof(std::uint32_t);
   return bytes;
 }
 
 void Bvh::refit(std::span<const glm::vec3> vertices) {
   EXAO_CHECK_EQ(vertices.size(), 3 * triangle_count());
-  // The blocks keep their sidedness and cut-out bits (and the tree its objects); only the floats
+  // The leaves keep their sidedness and cut-out bits (and the tree its objects); only the floats
   // move, with the spheres as TriangleSet::build computes them (the same floats as brute's).
+  const auto refit_leaf = [&](std::uint32_t place) {
+    const LeafBlock leaf = leaf_at(place);
+    float largest = 0.0f;
+    for (int l = 0; l < static_cast<int>(leaf.count); ++l) {
+      const std::size_t t = scene_triangle[leaf.first + static_cast<std::uint32_t>(l)];
+      const glm::vec3 &v0 = vertices[3 * t], &v1 = vertices[3 * t + 1], &v2 = vertices[3 * t + 2];
+      glm::vec3 centre;
+      float radius = 0.0f;
+      lut::bounding_sphere(v0, v1, v2, centre, radius);
+      put_lane(leaf_floats.data() + place + kLeafHeaderFloats, leaf.width, l, v0, v1, v2, centre, radius);
+      for (const glm::vec3& v : {v0, v1, v2}) largest = std::max({largest, std::abs(v.x), std::abs(v.y), std::abs(v.z)});
+    }
+    return largest;
+  };
   largest_coordinate = tbb::parallel_reduce(
-      tbb::blocked_range<std::size_t>(0, leaves.size(), 256), 0.0f,
+      tbb::blocked_range<std::size_t>(0, nodes.size(), 256), 0.0f,
       [&](const tbb::blocked_range<std::size_t>& range, float largest) {
-        for (std::size_t b = range.begin(); b != range.end(); ++b) {
-          const LeafRecord& leaf = leaves[b];
-          for (int l = 0; l < leaf.count; ++l) {
-            const std::size_t t = scene_triangle[leaf.first + static_cast<std::uint32_t>(l)];
-            const glm::vec3 &v0 = vertices[3 * t], &v1 = vertices[3 * t + 1], &v2 = vertices[3 * t + 2];
-            glm::vec3 centre;
-            float radius = 0.0f;
-            lut::bounding_sphere(v0, v1, v2, centre, radius);
-            put_lane(leaf_floats.data() + leaf.offset, leaf_width(leaf.count), l, v0, v1, v2, centre, radius);
-            for (const glm::vec3& v : {v0, v1, v2}) largest = std::max({largest, std::abs(v.x), std::abs(v.y), std::abs(v.z)});
+        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+          for (int k = 0; k < nodes[i].child_count; ++k) {
+            if (nodes[i].leaf_size[k] != 0) largest = std::max(largest, refit_leaf(nodes[i].child[k]));
           }
         }
         return largest;

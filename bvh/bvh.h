@@ -5,6 +5,7 @@
 // children of a node in one pass (paper Sec. 5).
 
 #include <cstdint>
+#include <cstring>
 #include <memory>
 #include <span>
 #include <vector>
@@ -28,7 +29,7 @@ struct Node {
   float hi_x[kMaxChildren], hi_y[kMaxChildren], hi_z[kMaxChildren];
   float centre_x[kMaxChildren], centre_y[kMaxChildren], centre_z[kMaxChildren];  // child spheres,
   float radius[kMaxChildren];  // holding every triangle sphere below (so region masks nest)
-  std::uint32_t child[kMaxChildren];  // internal: node index; leaf: first triangle
+  std::uint32_t child[kMaxChildren];  // internal: node index; leaf: its place in Bvh::leaf_floats (leaf_at)
   std::uint8_t leaf_size[kMaxChildren];  // 0 for an internal child, else its triangle count (1-8)
   std::uint8_t child_count;
 };
@@ -45,42 +46,53 @@ enum LeafRow : int { kV0x, kV0y, kV0z, kV1x, kV1y, kV1z, kV2x, kV2y, kV2z, kCent
 /// NaN, as they were when every row had 8.
 struct LeafBlock {
   static constexpr int kLanes = 8;
-  const float *v0x, *v0y, *v0z, *v1x, *v1y, *v1z, *v2x, *v2y, *v2z;
-  const float *cx, *cy, *cz, *radius;  // bounding spheres
-  int width;                    // floats a row: 4 or 8
+  const float* rows;            // kLeafRows rows of `width` floats
+  int width;                    // 4 or 8
   std::uint32_t two_sided;      // bit k: lane k is two-sided
   std::uint32_t cutout;         // bit k: lane k is alpha-tested (0 in an opaque scene: today's path)
   std::uint32_t first;          // lane 0's triangle, in leaf order
   std::uint32_t count;          // the leaf's size, 1-8
 
-  LeafBlock(const float* rows, int width_, std::uint32_t two_sided_, std::uint32_t cutout_, std::uint32_t first_,
-            std::uint32_t count_)
-      : v0x(rows + kV0x * width_), v0y(rows + kV0y * width_), v0z(rows + kV0z * width_),
-        v1x(rows + kV1x * width_), v1y(rows + kV1y * width_), v1z(rows + kV1z * width_),
-        v2x(rows + kV2x * width_), v2y(rows + kV2y * width_), v2z(rows + kV2z * width_),
-        cx(rows + kCentreX * width_), cy(rows + kCentreY * width_), cz(rows + kCentreZ * width_),
-        radius(rows + kRadius * width_), width(width_), two_sided(two_sided_), cutout(cutout_), first(first_),
-        count(count_) {}
+  [[nodiscard, gnu::always_inline]] const float* row(int r) const { return rows + r * width; }
+  [[nodiscard, gnu::always_inline]] const float* v0x() const { return row(kV0x); }
+  [[nodiscard, gnu::always_inline]] const float* v0y() const { return row(kV0y); }
+  [[nodiscard, gnu::always_inline]] const float* v0z() const { return row(kV0z); }
+  [[nodiscard, gnu::always_inline]] const float* v1x() const { return row(kV1x); }
+  [[nodiscard, gnu::always_inline]] const float* v1y() const { return row(kV1y); }
+  [[nodiscard, gnu::always_inline]] const float* v1z() const { return row(kV1z); }
+  [[nodiscard, gnu::always_inline]] const float* v2x() const { return row(kV2x); }
+  [[nodiscard, gnu::always_inline]] const float* v2y() const { return row(kV2y); }
+  [[nodiscard, gnu::always_inline]] const float* v2z() const { return row(kV2z); }
+  [[nodiscard, gnu::always_inline]] const float* cx() const { return row(kCentreX); }  // bounding spheres
+  [[nodiscard, gnu::always_inline]] const float* cy() const { return row(kCentreY); }
+  [[nodiscard, gnu::always_inline]] const float* cz() const { return row(kCentreZ); }
+  [[nodiscard, gnu::always_inline]] const float* radius() const { return row(kRadius); }
 };
 
 /// Floats a row of a leaf of `count` triangles.
 [[nodiscard]] constexpr int leaf_width(int count) { return count <= 4 ? 4 : LeafBlock::kLanes; }
 
-/// Where a leaf's rows are in Bvh::leaf_floats, and its flags.
-struct LeafRecord {
-  std::uint32_t offset = 0;     // of its first row, in floats (a multiple of 4)
-  std::uint32_t first = 0;      // lane 0's triangle, in leaf order
-  std::uint8_t count = 0;       // 1-8
-  std::uint8_t two_sided = 0;   // bit k: lane k is two-sided
-  std::uint8_t cutout = 0;      // bit k: lane k is alpha-tested
+/// What precedes a leaf's rows in Bvh::leaf_floats (16 bytes, so the rows stay 16-aligned): a
+/// node's child slot leads to the header and the rows together, one place in memory.
+struct LeafHeader {
+  std::uint32_t first;      // lane 0's triangle, in leaf order
+  std::uint8_t count;       // 1-8
+  std::uint8_t two_sided;   // bit k: lane k is two-sided
+  std::uint8_t cutout;      // bit k: lane k is alpha-tested
+  std::uint8_t unused[9];
 };
+static_assert(sizeof(LeafHeader) == 16);
+inline constexpr int kLeafHeaderFloats = 4;
+
+/// Floats a leaf of `count` triangles takes in Bvh::leaf_floats: its header and rows.
+[[nodiscard]] constexpr int leaf_floats_of(int count) { return kLeafHeaderFloats + kLeafRows * leaf_width(count); }
 
 /// Eight lanes of rows of its own: a leaf gathered from the triangles of several (the occluder
 /// cache, bvh/traverse-inl.h).
 struct alignas(32) LeafLanes {
   float rows[kLeafRows * LeafBlock::kLanes];
   [[nodiscard]] LeafBlock view(std::uint32_t two_sided, std::uint32_t cutout, std::uint32_t count) const {
-    return LeafBlock(rows, LeafBlock::kLanes, two_sided, cutout, 0, count);
+    return LeafBlock{rows, LeafBlock::kLanes, two_sided, cutout, 0, count};
   }
 };
 
@@ -94,11 +106,11 @@ struct BvhOptions {
 
 struct Bvh {
   std::vector<Node> nodes;          // nodes[0] is the root
-  // The triangles are numbered in leaf order (a leaf's are contiguous); Node::child of a leaf is
-  // its first. Their floats live in the leaf blocks only.
-  std::vector<float, lut::CacheLineAllocator<float>> leaf_floats;  // every leaf's rows (LeafBlock), back to back
-  std::vector<LeafRecord> leaves;              // per leaf, in leaf order
-  std::vector<std::uint32_t> leaf_of;          // per triangle: its leaf
+  // The triangles are numbered in leaf order (a leaf's are contiguous). Their floats live in the
+  // leaves only: each a LeafHeader then its rows, back to back, in node order.
+  std::vector<float, lut::CacheLineAllocator<float>> leaf_floats;
+  std::size_t leaf_count = 0;
+  std::vector<std::uint32_t> leaf_of;          // per triangle: its leaf's place in leaf_floats
   std::vector<std::uint32_t> scene_triangle;   // per triangle: its index in the scene
   std::vector<std::uint32_t> object;           // per triangle: Scene::object; empty when every one is 0
   /// The scene's cut-outs when any triangle is alpha-tested (LeafBlock::cutout), else null.
@@ -107,11 +119,14 @@ struct Bvh {
   float box_shrink_for_test = 0.0f;            // world units off the box cull's margin: a test's too-tight cull
 
   [[nodiscard]] std::size_t triangle_count() const { return scene_triangle.size(); }
-  [[nodiscard]] LeafBlock leaf(std::uint32_t i) const {
-    const LeafRecord& r = leaves[i];
-    return LeafBlock(leaf_floats.data() + r.offset, leaf_width(r.count), r.two_sided, r.cutout, r.first, r.count);
-  }
   [[nodiscard]] std::uint32_t object_of(std::uint32_t t) const { return object.empty() ? 0u : object[t]; }
+  /// The leaf at `place` in leaf_floats (Node::child of a leaf slot, leaf_of).
+  [[nodiscard, gnu::always_inline]] LeafBlock leaf_at(std::uint32_t place) const {
+    LeafHeader header{};
+    std::memcpy(&header, leaf_floats.data() + place, sizeof header);
+    return LeafBlock{leaf_floats.data() + place + kLeafHeaderFloats, leaf_width(header.count), header.two_sided,
+                     header.cutout, header.first, header.count};
+  }
 
   /// Builds over `triangles` (copied into the leaf blocks: the floats are the same, so every mask
   /// equals brute's). Fails on an empty set, or a tree deeper than 64 levels (millions of
@@ -139,7 +154,7 @@ struct Bvh {
 /// What a BVH holds, in bytes by array (capacities: what the process pays for them).
 struct BvhBytes {
   std::size_t nodes = 0;    // Node, 184 bytes each
-  std::size_t leaves = 0;   // the leaves' rows (208 bytes a leaf of up to 4 triangles, 416 above) and records (12)
+  std::size_t leaves = 0;   // the leaves' headers and rows: 224 bytes a leaf of up to 4 triangles, 432 above
   std::size_t indices = 0;  // scene_triangle, leaf_of and object (when kept), 4 bytes a triangle each
   [[nodiscard]] std::size_t total() const { return nodes + leaves + indices; }
 };
@@ -157,20 +172,20 @@ struct BvhBytes {
 /// floats and flags; the object is left 0 (the traversal reads Bvh::object_of).
 [[nodiscard]] inline lut::PackedTriangle block_triangle(const LeafBlock& block, int l) {
   lut::PackedTriangle p;
-  p.v0 = {block.v0x[l], block.v0y[l], block.v0z[l]};
-  p.v1 = {block.v1x[l], block.v1y[l], block.v1z[l]};
-  p.v2 = {block.v2x[l], block.v2y[l], block.v2z[l]};
-  p.centre = {block.cx[l], block.cy[l], block.cz[l]};
-  p.radius = block.radius[l];
+  p.v0 = {block.v0x()[l], block.v0y()[l], block.v0z()[l]};
+  p.v1 = {block.v1x()[l], block.v1y()[l], block.v1z()[l]};
+  p.v2 = {block.v2x()[l], block.v2y()[l], block.v2z()[l]};
+  p.centre = {block.cx()[l], block.cy()[l], block.cz()[l]};
+  p.radius = block.radius()[l];
   p.two_sided = (block.two_sided >> l) & 1u;
   p.cutout = (block.cutout >> l) & 1u;
   return p;
 }
 
 /// Triangle t (leaf order): its leaf's lanes, and its lane there.
-[[nodiscard]] inline LeafBlock triangle_block(const Bvh& bvh, std::uint32_t t) { return bvh.leaf(bvh.leaf_of[t]); }
+[[nodiscard]] inline LeafBlock triangle_block(const Bvh& bvh, std::uint32_t t) { return bvh.leaf_at(bvh.leaf_of[t]); }
 [[nodiscard]] inline int triangle_lane(const Bvh& bvh, std::uint32_t t) {
-  return static_cast<int>(t - bvh.leaves[bvh.leaf_of[t]].first);
+  return static_cast<int>(t - triangle_block(bvh, t).first);
 }
 
 }  // namespace exao::bvh

@@ -159,7 +159,7 @@ template <class L>
   const F zero = L::set(0.0f), one = L::set(1.0f);
   const F cnx = L::mul(cx, inv_r), cny = L::mul(cy, inv_r), cnz = L::mul(cz, inv_r);
   const F len = L::sqrt(dot3<L>(cnx, cny, cnz, cnx, cny, cnz));
-  const F grown = L::mul(L::add(L::mul(load_row<L>(leaf.radius + l, leaf.width), inv_r), L::mul(L::set(kTriangleMargin), len)),
+  const F grown = L::mul(L::add(L::mul(load_row<L>(leaf.radius() + l, leaf.width), inv_r), L::mul(L::set(kTriangleMargin), len)),
                          L::set(1.0f + 1e-5f));
   const F sine = L::mul(L::div(grown, len), L::set(1.0f + 1e-5f));
   const auto cone = L::both(L::gt(len, grown), L::lt(sine, L::set(0.999f)));
@@ -182,7 +182,7 @@ template <class L>
   using F = typename L::F;
   const F one = L::set(1.0f), big = L::set(std::numeric_limits<float>::max());
   const F len = L::sqrt(dot3<L>(cx, cy, cz, cx, cy, cz));
-  const F grown = L::mul(L::add(L::add(load_row<L>(leaf.radius + l, leaf.width), L::set(g_world)), L::mul(L::set(kTriangleMargin), len)),
+  const F grown = L::mul(L::add(L::add(load_row<L>(leaf.radius() + l, leaf.width), L::set(g_world)), L::mul(L::set(kTriangleMargin), len)),
                          L::set(1.0f + 1e-6f));
   const auto rays = L::both(L::both(L::le(len, big), L::le(grown, big)), L::gt(len, L::mul(grown, L::set(1.0f + 1e-6f))));
   const F sine = L::mul(L::div(grown, len), L::set(1.0f + 1e-5f));
@@ -207,9 +207,9 @@ template <class L>
 [[nodiscard, gnu::always_inline]] inline typename L::M corners_in_frame(const FrameLanes<L>& frame, const LeafBlock& leaf,
                                                                         int l, typename L::F horizon, typename L::F inv_r,
                                                                         CornerLanes<L>& t) {
-  to_frame<L>(frame, leaf.v0x + l, leaf.v0y + l, leaf.v0z + l, leaf.width, t.ax, t.ay, t.az);
-  to_frame<L>(frame, leaf.v1x + l, leaf.v1y + l, leaf.v1z + l, leaf.width, t.bx, t.by, t.bz);
-  to_frame<L>(frame, leaf.v2x + l, leaf.v2y + l, leaf.v2z + l, leaf.width, t.cx, t.cy, t.cz);
+  to_frame<L>(frame, leaf.v0x() + l, leaf.v0y() + l, leaf.v0z() + l, leaf.width, t.ax, t.ay, t.az);
+  to_frame<L>(frame, leaf.v1x() + l, leaf.v1y() + l, leaf.v1z() + l, leaf.width, t.bx, t.by, t.bz);
+  to_frame<L>(frame, leaf.v2x() + l, leaf.v2y() + l, leaf.v2z() + l, leaf.width, t.cx, t.cy, t.cz);
   const auto above = L::not_(L::both(L::both(L::le(t.az, horizon), L::le(t.bz, horizon)), L::le(t.cz, horizon)));
   t.ax = L::mul(t.ax, inv_r), t.ay = L::mul(t.ay, inv_r), t.az = L::mul(t.az, inv_r);
   t.bx = L::mul(t.bx, inv_r), t.by = L::mul(t.by, inv_r), t.bz = L::mul(t.bz, inv_r);
@@ -267,8 +267,8 @@ template <class L>
 [[nodiscard, gnu::always_inline]] inline typename L::M sphere_reaches(const FrameLanes<L>& frame, const LeafBlock& leaf,
                                                                       int l, float reach, typename L::F& ccx,
                                                                       typename L::F& ccy, typename L::F& ccz) {
-  to_frame<L>(frame, leaf.cx + l, leaf.cy + l, leaf.cz + l, leaf.width, ccx, ccy, ccz);
-  const typename L::F grown = L::add(load_row<L>(leaf.radius + l, leaf.width), L::set(reach));
+  to_frame<L>(frame, leaf.cx() + l, leaf.cy() + l, leaf.cz() + l, leaf.width, ccx, ccy, ccz);
+  const typename L::F grown = L::add(load_row<L>(leaf.radius() + l, leaf.width), L::set(reach));
   return L::le(dot3<L>(ccx, ccy, ccz, ccx, ccy, ccz), L::mul(grown, grown));
 }
 

@@ -111,14 +111,22 @@ inline LeafBlock gather_block(const Bvh& bvh, const std::uint32_t* t, int n, Lea
     }
     const LeafBlock from = triangle_block(bvh, t[l]);
     const int k = triangle_lane(bvh, t[l]);
-    const float* const from_rows[kLeafRows] = {from.v0x, from.v0y, from.v0z, from.v1x, from.v1y, from.v1z, from.v2x,
-                                               from.v2y, from.v2z, from.cx,  from.cy,  from.cz,  from.radius};
+    const float* const from_rows[kLeafRows] = {from.v0x(), from.v0y(), from.v0z(), from.v1x(), from.v1y(), from.v1z(), from.v2x(),
+                                               from.v2y(), from.v2z(), from.cx(),  from.cy(),  from.cz(),  from.radius()};
     for (int r = 0; r < kLeafRows; ++r) lanes.rows[r * LeafBlock::kLanes + l] = from_rows[r][k];
     two_sided |= ((from.two_sided >> k) & 1u) << l;
     cutout |= ((from.cutout >> k) & 1u) << l;
   }
   return lanes.view(two_sided, cutout, static_cast<std::uint32_t>(n));
 }
+
+// Lane `lane` of a leaf, as the finish steps of lut/kernels-inl.h take a triangle: its floats
+// are gathered (packed_of) only when a mask survives, not for every triangle the set-up passes.
+struct LaneTriangle {
+  const LeafBlock* block;
+  int lane;
+};
+[[nodiscard]] inline PackedTriangle packed_of(const LaneTriangle& tri) { return block_triangle(*tri.block, tri.lane); }
 
 // The rest of triangle t's mask (lane l of `block`) after its set-up in lane l: pure, triangle_finish;
 // certain, the sure mask of certain_finish, its maybe bits ORed into *maybe. Cut-outs keep only
@@ -129,17 +137,18 @@ template <int Bits, bool Certain>
                                                 float g, std::uint64_t allowed, lut::KernelCounters* counters,
                                                 Mask<Bits>& maybe) {
   const lut::KernelContext& ctx = engine.kernel_context();
-  const PackedTriangle tri = block_triangle(block, l);
+  const LaneTriangle tri{&block, l};
+  const bool cutout = (block.cutout >> l) & 1u;
   if constexpr (Certain) {
     CertainMasks<Bits> both = certain_finish<Bits>(ctx, tri, setup.certain(l), frame, g, allowed, counters);
-    if (tri.cutout) {
+    if (cutout) {
       lut::keep_cutout_sure(*bvh.cutouts, bvh.scene_triangle[t], engine.rays(), frame, both.sure.words, both.maybe.words);
     }
     maybe |= both.maybe;
     return both.sure;
   } else {
     Mask<Bits> mask = triangle_finish<Bits>(ctx, tri, setup.pure(l), frame, allowed, counters);
-    if (tri.cutout) lut::keep_cutout_hits(*bvh.cutouts, bvh.scene_triangle[t], engine.rays(), frame, mask.words);
+    if (cutout) lut::keep_cutout_hits(*bvh.cutouts, bvh.scene_triangle[t], engine.rays(), frame, mask.words);
     return mask;
   }
 }
@@ -257,17 +266,19 @@ template <int Bits, bool Certain>
   }
 }
 
-// The leaf of triangles [first, first + size), on the clusters of `wanted`: its set-up in lanes,
-// then the rest for the triangles that pass, in order, until no cluster is left open.
+// The leaf at `place` (a leaf slot's Node::child) of `size` triangles, on the clusters of
+// `wanted`: its set-up in lanes, then the rest for the triangles that pass, in order, until no
+// cluster is left open.
 template <int Bits, bool Stats, bool Certain>
-[[gnu::always_inline]] inline void mask_leaf(const Bvh& bvh, const lut::MaskEngine& engine, const Frame& frame, float g, std::uint32_t first,
+[[gnu::always_inline]] inline void mask_leaf(const Bvh& bvh, const lut::MaskEngine& engine, const Frame& frame, float g, std::uint32_t place,
                       int size, const Mask<Bits>& wanted, ReceiverState<Bits>& state, TraversalStats* stats) {
   const lut::KernelContext& ctx = engine.kernel_context();
   lut::KernelCounters* counters = Stats ? &stats->kernels : nullptr;
   const int n_rays = engine.samples();
   std::uint64_t allowed = lut::occupied_clusters(wanted);
   LeafSetup setup;
-  const LeafBlock block = triangle_block(bvh, first);
+  const LeafBlock block = bvh.leaf_at(place);
+  const std::uint32_t first = block.first;
   std::uint32_t live = leaf_setup<Certain>(ctx, block, frame, g, setup);
   if (frame.excluded_object != kNoObject) live &= ~object_lanes(bvh, first, size, frame.excluded_object);
   if constexpr (Stats) stats->triangles_tested += static_cast<std::uint64_t>(size);
@@ -359,14 +370,14 @@ template <int Bits, bool Stats, bool Certain>
 }
 
 template <int Bits>
-void leaf_masks(const Bvh& bvh, const lut::MaskEngine& engine, const Frame& frame, std::uint32_t first, int count,
+void leaf_masks(const Bvh& bvh, const lut::MaskEngine& engine, const Frame& frame, std::uint32_t place, int count,
                 std::uint64_t allowed, Mask<Bits>* out) {
   const lut::KernelContext& ctx = engine.kernel_context();
-  const LeafBlock block = triangle_block(bvh, first);
+  const LeafBlock block = bvh.leaf_at(place);
   LeafSetup setup;
   const std::uint32_t live = leaf_setup<false>(ctx, block, frame, 0.0f, setup);
   for (int l = 0; l < count; ++l) {
-    out[l] = (live >> l) & 1u ? triangle_finish<Bits>(ctx, block_triangle(block, l), setup.pure(l), frame, allowed, nullptr)
+    out[l] = (live >> l) & 1u ? triangle_finish<Bits>(ctx, LaneTriangle{&block, l}, setup.pure(l), frame, allowed, nullptr)
                               : Mask<Bits>{};
   }
 }

@@ -111,7 +111,7 @@ struct TraverseFunctions {
   Function certain_counted;
   // For tests: the mask of each triangle of the leaf whose first triangle is `first`, through
   // the leaf's set-up in lanes (out[k] for triangle first + k).
-  void (*leaf_masks)(const Bvh&, const lut::MaskEngine&, const Frame&, std::uint32_t first, int count, std::uint64_t allowed,
+  void (*leaf_masks)(const Bvh&, const lut::MaskEngine&, const Frame&, std::uint32_t place, int count, std::uint64_t allowed,
                      Mask<Bits>* out);
 };
 
@@ -161,14 +161,14 @@ template <int Bits, bool Stats>
   return (Stats ? f.certain_counted : f.certain)(bvh, engine, frame, stats, budget, &outcome, cache);
 }
 
-/// Each triangle's mask of the leaf that starts at triangle `first` (a Node::child of a leaf
-/// slot) and holds `count` triangles, at the engine's instruction set, computed as the
+/// Each triangle's mask of the leaf at `place` (a Node::child of a leaf slot, Bvh::leaf_at)
+/// that holds `count` triangles, at the engine's instruction set, computed as the
 /// traversal computes it: the leaf's set-up in lanes, then the rest per triangle. For
 /// tests/triangle_mask_test.cpp, which checks it against lut's one-triangle kernel.
 template <int Bits>
-void leaf_masks(const Bvh& bvh, const lut::MaskEngine& engine, const Frame& frame, std::uint32_t first, int count,
+void leaf_masks(const Bvh& bvh, const lut::MaskEngine& engine, const Frame& frame, std::uint32_t place, int count,
                 std::uint64_t allowed, Mask<Bits>* out) {
-  traverse_table(engine.isa()).template get<Bits>().leaf_masks(bvh, engine, frame, first, count, allowed, out);
+  traverse_table(engine.isa()).template get<Bits>().leaf_masks(bvh, engine, frame, place, count, allowed, out);
 }
 
 namespace scalar_lanes { const TraverseTable& traverse_table(); }

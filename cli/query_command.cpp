@@ -32,8 +32,8 @@ void print_bvh_bytes(const bvh::Bvh& tree) {
   const auto per = [&](std::size_t b) { return static_cast<double>(b) / n; };
   std::printf("bvh memory: %.1f bytes a triangle: nodes %.1f (%zu), leaves %.1f (%zu, %.2f triangles a leaf), "
               "indices %.1f\n",
-              per(bytes.total()), per(bytes.nodes), tree.nodes.size(), per(bytes.leaves), tree.leaves.size(),
-              n / static_cast<double>(std::max<std::size_t>(1, tree.leaves.size())), per(bytes.indices));
+              per(bytes.total()), per(bytes.nodes), tree.nodes.size(), per(bytes.leaves), tree.leaf_count,
+              n / static_cast<double>(std::max<std::size_t>(1, tree.leaf_count)), per(bytes.indices));
 }
 
 int run_query(const QueryOptions& options, const Invocation& invocation) {

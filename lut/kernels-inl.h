@@ -59,9 +59,10 @@ template <int Bits>
 }
 
 // The clusters on the non-negative side of all three edge planes (unnormalised normals m_e of
-// lengths len_e), within reach of the cone (axis, cos_s, sin_s) when use_cone.
+// lengths len_e), within reach of the cone (axis, cos_s, sin_s) when use_cone. Always inlined: out
+// of line (as GCC chose once triangle_finish became a template) it cost 1.4% of a vertex bake.
 template <int Bits>
-[[nodiscard]] inline std::uint64_t triangle_reach(const SampleArrays& s, const Plane (&edge)[3], const float (&len)[3],
+[[nodiscard, gnu::always_inline]] inline std::uint64_t triangle_reach(const SampleArrays& s, const Plane (&edge)[3], const float (&len)[3],
                                                   bool use_cone, const glm::vec3& axis, float cos_s, float sin_s,
                                                   float slack) {
   constexpr int kClusters = clusters_for_bits(Bits);
@@ -363,8 +364,18 @@ template <int Bits>
 
 // Steps 6a-7 of triangle_mask, after triangle_setup (or the leaf's set-up in lanes) has let the
 // triangle through.
-template <int Bits>
-[[nodiscard]] inline Mask<Bits> triangle_finish(const KernelContext& ctx, const PackedTriangle& tri,
+// The surface rule (core/surface_rule.h) on a triangle's stored world floats.
+[[nodiscard]] inline bool on_triangle_plane(const PackedTriangle& tri, const glm::vec3& origin) {
+  return origin_on_plane(tri.v0, tri.v1, tri.v2, origin);
+}
+
+// The triangle the finish steps read only once a mask survives (the surface rule, the clip):
+// PackedTriangle itself, or whatever else has a packed_of found by argument-dependent lookup
+// (a lane of a BVH leaf, bvh/traverse-inl.h, whose floats are gathered only then).
+[[nodiscard]] inline const PackedTriangle& packed_of(const PackedTriangle& tri) { return tri; }
+
+template <int Bits, class Triangle>
+[[nodiscard]] inline Mask<Bits> triangle_finish(const KernelContext& ctx, const Triangle& tri,
                                                 const TriangleSetup& s, const Frame& frame, std::uint64_t allowed,
                                                 KernelCounters* counters) {
   const Plane& face = s.face;
@@ -394,8 +405,8 @@ template <int Bits>
         counters->near_samples += static_cast<std::uint64_t>(tested);
       }
       if (mask.none()) return mask;
-      if (origin_on_plane(tri.v0, tri.v1, tri.v2, frame.origin)) return {};  // 6b
-      if (counters) counters->clip_removed += clip_removes(ctx, tri, s, mask);  // 7: see below
+      if (on_triangle_plane(packed_of(tri), frame.origin)) return {};  // 6b
+      if (counters) counters->clip_removed += clip_removes(ctx, packed_of(tri), s, mask);  // 7: see below
       return mask;
     }
   }
@@ -420,17 +431,17 @@ template <int Bits>
   //     lies on blocks nothing. Decided on the stored world floats, not on d above (the frame's
   //     rounding moves d off 0), so Embree's filter reaches the same answer; only triangles that
   //     set a bit get here, and its place in the steps does not change the bits.
-  if (origin_on_plane(tri.v0, tri.v1, tri.v2, frame.origin)) return {};
+  if (on_triangle_plane(packed_of(tri), frame.origin)) return {};
 
   // 7. The clip by the triangle's own sphere, for a table's masks only: their planes carry the
   //    cells' errors. An exact mask's bit is a segment that crosses the triangle, which lies in
   //    its sphere (grown by 1e-5 |c|, far more than the float error), so there the clip removes
   //    nothing; with counters it is still computed, to show that (docs/speed.md).
   if (ctx.exact) {
-    if (counters) counters->clip_removed += clip_removes(ctx, tri, s, mask);
+    if (counters) counters->clip_removed += clip_removes(ctx, packed_of(tri), s, mask);
     return mask;
   }
-  const SphereTest clip = make_sphere_test(s.centre, tri.radius, ctx.radius, kTriangleMargin);
+  const SphereTest clip = make_sphere_test(s.centre, packed_of(tri).radius, ctx.radius, kTriangleMargin);
   if (clip.kind == SphereTest::Kind::All) return mask;
   if (counters) {
     ++counters->sphere_masks;
@@ -542,8 +553,8 @@ struct CertainSetup {
 /// The sure and maybe masks of one triangle at the receiver of `frame`, for the clusters of
 /// `allowed`; `g_world` is 2 delta in world units (bvh/traverse-inl.h computes it per receiver),
 /// after the set-up has let it through.
-template <int Bits>
-[[nodiscard]] inline CertainMasks<Bits> certain_finish(const KernelContext& ctx, const PackedTriangle& tri,
+template <int Bits, class Triangle>
+[[nodiscard]] inline CertainMasks<Bits> certain_finish(const KernelContext& ctx, const Triangle& tri,
                                                        const CertainSetup& s, const Frame& frame, float g_world,
                                                        std::uint64_t allowed, KernelCounters* counters) {
   const float g = g_world * ctx.inv_radius;
@@ -582,7 +593,7 @@ template <int Bits>
         counters->near_samples += static_cast<std::uint64_t>(tested);
       }
       if (out.maybe.none()) return out;
-      if (origin_on_plane(tri.v0, tri.v1, tri.v2, frame.origin)) return {};
+      if (on_triangle_plane(packed_of(tri), frame.origin)) return {};
       return out;
     }
   }
@@ -598,6 +609,6 @@ template <int Bits>
   }
   if (out.maybe.none()) return out;
   // 6b. The surface rule, on the stored floats, as Embree's filter decides it.
-  if (origin_on_plane(tri.v0, tri.v1, tri.v2, frame.origin)) return {};
+  if (on_triangle_plane(packed_of(tri), frame.origin)) return {};
   return out;
 }

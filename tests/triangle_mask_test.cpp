@@ -270,7 +270,10 @@ TEST(TriangleMask, LeafSetupInLanesEqualsTheOneTriangleKernel) {
   const bvh::Bvh& tree = *built;
   // Both row widths (bvh::leaf_width): leaves of up to 4 triangles keep rows of 4, larger 8.
   const auto has_width = [&](int width) {
-    return std::any_of(tree.leaves.begin(), tree.leaves.end(), [&](const bvh::LeafRecord& leaf) { return bvh::leaf_width(leaf.count) == width; });
+    return std::any_of(tree.nodes.begin(), tree.nodes.end(), [&](const bvh::Node& node) {
+      return std::any_of(node.leaf_size, node.leaf_size + node.child_count,
+                         [&](std::uint8_t size) { return size != 0 && bvh::leaf_width(size) == width; });
+    });
   };
   ASSERT_TRUE(has_width(4) && has_width(8));
   for (const int n : {32, 64, 128, 256, 512, 1024}) {
@@ -294,12 +297,12 @@ TEST(TriangleMask, LeafSetupInLanesEqualsTheOneTriangleKernel) {
                 if (node.leaf_size[k] == 0) continue;
                 Mask<Bits> lanes[bvh::LeafBlock::kLanes];
                 bvh::leaf_masks<Bits>(tree, engine, frame, node.child[k], node.leaf_size[k], allowed, lanes);
+                const std::uint32_t first = tree.leaf_at(node.child[k]).first;
                 for (int l = 0; l < node.leaf_size[k]; ++l) {
-                  const Mask<Bits> one =
-                      engine.triangle_mask<Bits>(set, tree.scene_triangle[node.child[k] + l], frame, allowed);
+                  const Mask<Bits> one = engine.triangle_mask<Bits>(set, tree.scene_triangle[first + l], frame, allowed);
                   nonempty += one.any();
                   ASSERT_EQ(lanes[l], one) << isa_name(isa) << " N " << n << " trial " << trial << " triangle "
-                                           << node.child[k] + l;
+                                           << first + l;
                 }
               }
             }
