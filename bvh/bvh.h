@@ -40,14 +40,14 @@ enum LeafRow : int { kV0x, kV0y, kV0z, kV1x, kV1y, kV1z, kV2x, kV2y, kV2z, kCent
 /// A leaf's triangles side by side, lane k = the leaf's triangle k (the floats of
 /// lut::TriangleSet, so every mask equals brute's): the traversal (bvh and auto) sets up a whole
 /// leaf at once, lane = triangle (bvh/leaf_setup-inl.h). A view of kLeafRows rows of `width`
-/// floats: 4 for a leaf of up to 4 triangles, else 8. Most leaves are small (2.75 triangles on
-/// average on a terrain), so rows of 4 halve the bytes of the tree's largest part; the set-up
-/// reads a row of 4 into 8 lanes with NaN above (load_row), so lanes past the leaf's size are
-/// NaN, as they were when every row had 8.
+/// floats: 2 for a leaf of up to 2 triangles, 4 up to 4, else 8. Most leaves are small (2.75
+/// triangles on average on a terrain, 70% of its leaves hold 2), so narrow rows cut the bytes
+/// of the tree's largest part by more than half; the set-up reads a narrow row into 8 lanes with
+/// NaN above (load_row), so lanes past the leaf's size are NaN, as they were when every row had 8.
 struct LeafBlock {
   static constexpr int kLanes = 8;
   const float* rows;            // kLeafRows rows of `width` floats
-  int width;                    // 4 or 8
+  int width;                    // 2, 4 or 8
   std::uint32_t two_sided;      // bit k: lane k is two-sided
   std::uint32_t cutout;         // bit k: lane k is alpha-tested (0 in an opaque scene: today's path)
   std::uint32_t first;          // lane 0's triangle, in leaf order
@@ -70,9 +70,9 @@ struct LeafBlock {
 };
 
 /// Floats a row of a leaf of `count` triangles.
-[[nodiscard]] constexpr int leaf_width(int count) { return count <= 4 ? 4 : LeafBlock::kLanes; }
+[[nodiscard]] constexpr int leaf_width(int count) { return count <= 2 ? 2 : count <= 4 ? 4 : LeafBlock::kLanes; }
 
-/// What precedes a leaf's rows in Bvh::leaf_floats (16 bytes, so the rows stay 16-aligned): a
+/// What precedes a leaf's rows in Bvh::leaf_floats (16 bytes; the rows are read unaligned): a
 /// node's child slot leads to the header and the rows together, one place in memory.
 struct LeafHeader {
   std::uint32_t first;      // lane 0's triangle, in leaf order
@@ -154,7 +154,7 @@ struct Bvh {
 /// What a BVH holds, in bytes by array (capacities: what the process pays for them).
 struct BvhBytes {
   std::size_t nodes = 0;    // Node, 184 bytes each
-  std::size_t leaves = 0;   // the leaves' headers and rows: 224 bytes a leaf of up to 4 triangles, 432 above
+  std::size_t leaves = 0;   // the leaves' headers and rows: 120, 224 or 432 bytes a leaf (up to 2, 4, 8 triangles)
   std::size_t indices = 0;  // scene_triangle, leaf_of and object (when kept), 4 bytes a triangle each
   [[nodiscard]] std::size_t total() const { return nodes + leaves + indices; }
 };

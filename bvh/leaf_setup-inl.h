@@ -81,12 +81,15 @@ struct FrameLanes {
         bx(L::set(f.bitangent.x)), by(L::set(f.bitangent.y)), bz(L::set(f.bitangent.z)),
         nx(L::set(f.normal.x)), ny(L::set(f.normal.y)), nz(L::set(f.normal.z)) {}
 };
-// Lanes l.. of a leaf row of `width` floats (bvh::leaf_width): a row of 4 fills 8 lanes with NaN
-// above, as the lanes past a leaf's size have always been; narrower lanes never read past it.
+// Lanes l.. of a leaf row of `width` floats (bvh::leaf_width): a row narrower than the lanes
+// fills them with NaN above, as the lanes past a leaf's size have always been; the scalar twin
+// never reads past it.
 template <class L>
 [[nodiscard, gnu::always_inline]] inline typename L::F load_row(const float* p, int width) {
   if constexpr (L::kWidth == 8) {
-    return width == 4 ? L::load4(p) : L::loadu(p);
+    return L::load_first(p, width);
+  } else if constexpr (L::kWidth == 4) {
+    return width == 2 ? L::load2(p) : L::loadu(p);
   } else {
     return L::loadu(p);
   }

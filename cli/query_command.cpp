@@ -34,6 +34,15 @@ void print_bvh_bytes(const bvh::Bvh& tree) {
               "indices %.1f\n",
               per(bytes.total()), per(bytes.nodes), tree.nodes.size(), per(bytes.leaves), tree.leaf_count,
               n / static_cast<double>(std::max<std::size_t>(1, tree.leaf_count)), per(bytes.indices));
+  std::size_t by_size[9] = {};
+  for (const bvh::Node& node : tree.nodes) {
+    for (int k = 0; k < node.child_count; ++k) ++by_size[node.leaf_size[k]];
+  }
+  std::printf("leaves by size:");
+  for (int size = 1; size <= 8; ++size) {
+    std::printf(" %d: %.1f%%", size, 100.0 * static_cast<double>(by_size[size]) / static_cast<double>(std::max<std::size_t>(1, tree.leaf_count)));
+  }
+  std::printf("\n");
 }
 
 int run_query(const QueryOptions& options, const Invocation& invocation) {

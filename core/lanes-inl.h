@@ -127,6 +127,13 @@ struct LanesSse {
   using M = __m128;
   static F load(const float* p) { return _mm_load_ps(p); }
   static F loadu(const float* p) { return _mm_loadu_ps(p); }
+  // Two floats into the low lanes, NaN above: a BVH leaf's row of 2 (bvh::leaf_width).
+  static F load2(const float* p) {
+    std::uint64_t two;
+    std::memcpy(&two, p, sizeof two);
+    const __m128 low = _mm_castsi128_ps(_mm_cvtsi64_si128(static_cast<long long>(two)));
+    return _mm_movelh_ps(low, _mm_set1_ps(std::numeric_limits<float>::quiet_NaN()));
+  }
   static F max(F a, F b) { return _mm_max_ps(a, b); }
   static F set(float x) { return _mm_set1_ps(x); }
   static F add(F a, F b) { return _mm_add_ps(a, b); }
@@ -162,9 +169,12 @@ struct Lanes8 {
   using M = __m256;  // all-ones or all-zeros per lane
   static F load(const float* p) { return _mm256_load_ps(p); }
   static F loadu(const float* p) { return _mm256_loadu_ps(p); }
-  // Four floats into the low lanes, NaN above: a BVH leaf's row of 4 (bvh::leaf_width).
-  static F load4(const float* p) {
-    return _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(p)), _mm_set1_ps(std::numeric_limits<float>::quiet_NaN()), 1);
+  // The first n floats at p into the low lanes, NaN above (a BVH leaf's row of n, bvh::leaf_width),
+  // without a branch on n: leaves of every width come in any order. Masked lanes are not read.
+  static F load_first(const float* p, int n) {
+    const __m256i keep = _mm256_cmpgt_epi32(_mm256_set1_epi32(n), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+    return _mm256_blendv_ps(_mm256_set1_ps(std::numeric_limits<float>::quiet_NaN()), _mm256_maskload_ps(p, keep),
+                            _mm256_castsi256_ps(keep));
   }
   static F set(float x) { return _mm256_set1_ps(x); }
   static F add(F a, F b) { return _mm256_add_ps(a, b); }

@@ -268,14 +268,15 @@ TEST(TriangleMask, LeafSetupInLanesEqualsTheOneTriangleKernel) {
   auto built = bvh::Bvh::build(set, {4, 8});
   ASSERT_TRUE(built) << built.error().message;
   const bvh::Bvh& tree = *built;
-  // Both row widths (bvh::leaf_width): leaves of up to 4 triangles keep rows of 4, larger 8.
+  // Every row width (bvh::leaf_width): leaves of up to 2 triangles keep rows of 2, up to 4 rows
+  // of 4, larger 8.
   const auto has_width = [&](int width) {
     return std::any_of(tree.nodes.begin(), tree.nodes.end(), [&](const bvh::Node& node) {
       return std::any_of(node.leaf_size, node.leaf_size + node.child_count,
                          [&](std::uint8_t size) { return size != 0 && bvh::leaf_width(size) == width; });
     });
   };
-  ASSERT_TRUE(has_width(4) && has_width(8));
+  ASSERT_TRUE(has_width(2) && has_width(4) && has_width(8));
   for (const int n : {32, 64, 128, 256, 512, 1024}) {
     const ShadowRays rays = rays_of(n, Falloff::Linear, r);
     for (const MaskMode mode : {MaskMode::Exact, MaskMode::Lut}) {
