@@ -119,44 +119,27 @@ float make_leaf(const Source& source, const std::vector<std::uint32_t>& order, s
   return largest;
 }
 
+// The tree's shape over the source's triangles' boxes; the boxes (32 bytes a triangle) are freed
+// before the leaves are made.
 template <class Source>
-Result<Bvh> build_from(const Source& source, const BvhOptions& options, const ProgressCallback& progress) {
+Result<Topology> topology_of(const Source& source, const BvhOptions& options, const ProgressCallback& progress) {
   const std::size_t n = source.size();
-  if (n == 0) return fail("bvh: the scene has no triangles");
-  if (auto ok = check_options(options); !ok) return std::unexpected(ok.error());
-  // Progress: the topology reports n (triangles placed in leaves), the blocks n more.
-  const ProgressCallback topology_progress =
-      progress ? ProgressCallback([&](std::size_t done, std::size_t) { progress(done, 2 * n); }) : ProgressCallback();
+  std::vector<BuildPrimitive> primitives;
+  reserve_huge(primitives, n);
+  primitives.resize(n);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kGrain), [&](const tbb::blocked_range<std::size_t>& range) {
+    for (std::size_t t = range.begin(); t != range.end(); ++t) {
+      const glm::vec3 a = source.vertex(t, 0), b = source.vertex(t, 1), c = source.vertex(t, 2);
+      const glm::vec3 lo = glm::min(a, glm::min(b, c)), hi = glm::max(a, glm::max(b, c));
+      primitives[t] = {lo.x, lo.y, lo.z, static_cast<std::uint32_t>(t), hi.x, hi.y, hi.z, 0.0f};
+    }
+  });
+  return build_topology(primitives, options, {}, progress);
+}
 
-  Result<Topology> topology;
-  {
-    std::vector<BuildPrimitive> primitives;
-    reserve_huge(primitives, n);
-    primitives.resize(n);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kGrain), [&](const tbb::blocked_range<std::size_t>& range) {
-      for (std::size_t t = range.begin(); t != range.end(); ++t) {
-        const glm::vec3 a = source.vertex(t, 0), b = source.vertex(t, 1), c = source.vertex(t, 2);
-        const glm::vec3 lo = glm::min(a, glm::min(b, c)), hi = glm::max(a, glm::max(b, c));
-        primitives[t] = {lo.x, lo.y, lo.z, static_cast<std::uint32_t>(t), hi.x, hi.y, hi.z, 0.0f};
-      }
-    });
-    topology = build_topology(primitives, options, {}, topology_progress);
-  }  // the primitives (32 bytes a triangle) go before the blocks come
-  if (!topology) return std::unexpected(topology.error());
-
-  Bvh bvh;
-  bvh.cutouts = source.cutouts();
-  bvh.nodes = std::move(topology->nodes);
-  bvh.scene_triangle = std::move(topology->order);
-  if (source.has_objects()) {
-    bvh.object.resize(n);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kGrain), [&](const tbb::blocked_range<std::size_t>& range) {
-      for (std::size_t i = range.begin(); i != range.end(); ++i) bvh.object[i] = source.object(bvh.scene_triangle[i]);
-    });
-  }
-
-  // The leaves in node order, then slot order: a leaf slot's child becomes its place in
-  // leaf_floats (it was the leaf's first triangle, which the header keeps).
+// Where each node's leaves start in leaf_floats (node order, then slot order), one past the last
+// node's the total; counts the leaves.
+Result<std::vector<std::uint64_t>> leaf_places(Bvh& bvh) {
   std::vector<std::uint64_t> first_float(bvh.nodes.size() + 1, 0);
   for (std::size_t i = 0; i < bvh.nodes.size(); ++i) {
     const Node& node = bvh.nodes[i];
@@ -169,8 +152,18 @@ Result<Bvh> build_from(const Source& source, const BvhOptions& options, const Pr
     first_float[i + 1] = first_float[i] + floats;
   }
   if (first_float.back() > std::numeric_limits<std::uint32_t>::max()) {
-    return fail("bvh: " + std::to_string(n) + " triangles need more leaf floats than 32-bit offsets address");
+    return fail("bvh: " + std::to_string(bvh.scene_triangle.size()) +
+                " triangles need more leaf floats than 32-bit offsets address");
   }
+  return first_float;
+}
+
+// Every leaf's header and rows at its place; a leaf slot's child becomes that place (it was the
+// leaf's first triangle, which the header keeps). Sets largest_coordinate; progress from n to 2n.
+template <class Source>
+void make_leaves(const Source& source, const std::vector<std::uint64_t>& first_float, Bvh& bvh,
+                 const ProgressCallback& progress) {
+  const std::size_t n = bvh.scene_triangle.size();
   reserve_huge(bvh.leaf_floats, first_float.back());
   bvh.leaf_floats.resize(first_float.back());
   reserve_huge(bvh.leaf_of, n);
@@ -198,6 +191,32 @@ Result<Bvh> build_from(const Source& source, const BvhOptions& options, const Pr
         return largest;
       },
       [](float x, float y) { return std::max(x, y); });
+}
+
+template <class Source>
+Result<Bvh> build_from(const Source& source, const BvhOptions& options, const ProgressCallback& progress) {
+  const std::size_t n = source.size();
+  if (n == 0) return fail("bvh: the scene has no triangles");
+  if (auto ok = check_options(options); !ok) return std::unexpected(ok.error());
+  // Progress: the topology reports n (triangles placed in leaves), the leaves n more.
+  const ProgressCallback topology_progress =
+      progress ? ProgressCallback([&](std::size_t done, std::size_t) { progress(done, 2 * n); }) : ProgressCallback();
+  Result<Topology> topology = topology_of(source, options, topology_progress);
+  if (!topology) return std::unexpected(topology.error());
+
+  Bvh bvh;
+  bvh.cutouts = source.cutouts();
+  bvh.nodes = std::move(topology->nodes);
+  bvh.scene_triangle = std::move(topology->order);
+  if (source.has_objects()) {
+    bvh.object.resize(n);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kGrain), [&](const tbb::blocked_range<std::size_t>& range) {
+      for (std::size_t i = range.begin(); i != range.end(); ++i) bvh.object[i] = source.object(bvh.scene_triangle[i]);
+    });
+  }
+  Result<std::vector<std::uint64_t>> first_float = leaf_places(bvh);
+  if (!first_float) return std::unexpected(first_float.error());
+  make_leaves(source, *first_float, bvh, progress);
   source.release();
 
   const std::vector<Topology::SlotRange>& ranges = topology->ranges;
