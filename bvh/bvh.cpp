@@ -65,14 +65,16 @@ struct SceneSource {
 // A sphere around the box centre holding every triangle sphere of the subtree (tighter than
 // the box's circumsphere), radius rounded up past the float centre: the region mask of this
 // sphere must contain those of the triangles' spheres (lut/sphere_test.h, nesting).
-void set_sphere(Node& node, int slot, const Bvh& bvh, std::uint32_t first, std::uint32_t last) {
+// `leaf_of`: per triangle, its leaf's place (the build's own, freed after the spheres).
+void set_sphere(Node& node, int slot, const Bvh& bvh, const std::vector<std::uint32_t>& leaf_of, std::uint32_t first,
+                std::uint32_t last) {
   const glm::vec3 centre_f(0.5f * (node.lo_x[slot] + node.hi_x[slot]), 0.5f * (node.lo_y[slot] + node.hi_y[slot]),
                            0.5f * (node.lo_z[slot] + node.hi_z[slot]));
   const glm::dvec3 centre(centre_f);
   double radius = 0.0;
   for (std::uint32_t t = first; t < last;) {
-    const LeafBlock block = triangle_block(bvh, t);
-    for (int l = triangle_lane(bvh, t); l < static_cast<int>(block.count) && t < last; ++l, ++t) {
+    const LeafBlock block = bvh.leaf_at(leaf_of[t]);
+    for (int l = static_cast<int>(t - block.first); l < static_cast<int>(block.count) && t < last; ++l, ++t) {
       const glm::dvec3 c(block.cx()[l], block.cy()[l], block.cz()[l]);
       radius = std::max(radius, glm::length(c - centre) + double(block.radius()[l]));
     }
@@ -159,15 +161,16 @@ Result<std::vector<std::uint64_t>> leaf_places(Bvh& bvh) {
 }
 
 // Every leaf's header and rows at its place; a leaf slot's child becomes that place (it was the
-// leaf's first triangle, which the header keeps). Sets largest_coordinate; progress from n to 2n.
+// leaf's first triangle, which the header keeps). Sets largest_coordinate, and each triangle's
+// leaf in `leaf_of`; progress from n to 2n.
 template <class Source>
 void make_leaves(const Source& source, const std::vector<std::uint64_t>& first_float, Bvh& bvh,
-                 const ProgressCallback& progress) {
+                 std::vector<std::uint32_t>& leaf_of, const ProgressCallback& progress) {
   const std::size_t n = bvh.scene_triangle.size();
   reserve_huge(bvh.leaf_floats, first_float.back());
   bvh.leaf_floats.resize(first_float.back());
-  reserve_huge(bvh.leaf_of, n);
-  bvh.leaf_of.assign(n, 0);
+  reserve_huge(leaf_of, n);
+  leaf_of.assign(n, 0);
   std::atomic<std::size_t> placed{0};
   bvh.largest_coordinate = tbb::parallel_reduce(
       tbb::blocked_range<std::size_t>(0, bvh.nodes.size(), 256), 0.0f,
@@ -181,7 +184,7 @@ void make_leaves(const Source& source, const std::vector<std::uint64_t>& first_f
             if (size == 0) continue;
             const std::uint32_t first = node.child[k];
             largest = std::max(largest, make_leaf(source, bvh.scene_triangle, first, size, bvh.leaf_floats.data() + place));
-            for (int l = 0; l < size; ++l) bvh.leaf_of[first + static_cast<std::uint32_t>(l)] = place;
+            for (int l = 0; l < size; ++l) leaf_of[first + static_cast<std::uint32_t>(l)] = place;
             node.child[k] = place;
             triangles += static_cast<std::size_t>(size);
             place += static_cast<std::uint32_t>(leaf_floats_of(size));
@@ -216,14 +219,15 @@ Result<Bvh> build_from(const Source& source, const BvhOptions& options, const Pr
   }
   Result<std::vector<std::uint64_t>> first_float = leaf_places(bvh);
   if (!first_float) return std::unexpected(first_float.error());
-  make_leaves(source, *first_float, bvh, progress);
+  std::vector<std::uint32_t> leaf_of;
+  make_leaves(source, *first_float, bvh, leaf_of, progress);
   source.release();
 
   const std::vector<Topology::SlotRange>& ranges = topology->ranges;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, bvh.nodes.size(), 256), [&](const tbb::blocked_range<std::size_t>& range) {
     for (std::size_t i = range.begin(); i != range.end(); ++i) {
       Node& node = bvh.nodes[i];
-      for (int k = 0; k < node.child_count; ++k) set_sphere(node, k, bvh, ranges[i].first[k], ranges[i].last[k]);
+      for (int k = 0; k < node.child_count; ++k) set_sphere(node, k, bvh, leaf_of, ranges[i].first[k], ranges[i].last[k]);
     }
   });
   return bvh;
@@ -238,13 +242,13 @@ struct Extent {
   std::uint32_t first = UINT32_MAX, last = 0;
 };
 
-Extent refit_node(Bvh& bvh, std::uint32_t index) {
+Extent refit_node(Bvh& bvh, const std::vector<std::uint32_t>& leaf_of, std::uint32_t index) {
   Node& node = bvh.nodes[index];
   Extent whole;
   for (int k = 0; k < node.child_count; ++k) {
     Extent child;
     if (node.leaf_size[k] == 0) {
-      child = refit_node(bvh, node.child[k]);
+      child = refit_node(bvh, leaf_of, node.child[k]);
     } else {
       const LeafBlock block = bvh.leaf_at(node.child[k]);
       child.first = block.first;
@@ -259,7 +263,7 @@ Extent refit_node(Bvh& bvh, std::uint32_t index) {
     }
     node.lo_x[k] = child.lo.x, node.lo_y[k] = child.lo.y, node.lo_z[k] = child.lo.z;
     node.hi_x[k] = child.hi.x, node.hi_y[k] = child.hi.y, node.hi_z[k] = child.hi.z;
-    set_sphere(node, k, bvh, child.first, child.last);
+    set_sphere(node, k, bvh, leaf_of, child.first, child.last);
     whole.lo = glm::min(whole.lo, child.lo);
     whole.hi = glm::max(whole.hi, child.hi);
     whole.first = std::min(whole.first, child.first);
@@ -296,7 +300,7 @@ BvhBytes memory_bytes(const Bvh& bvh) {
   BvhBytes bytes;
   bytes.nodes = bvh.nodes.capacity() * sizeof(Node);
   bytes.leaves = bvh.leaf_floats.capacity() * sizeof(float);
-  bytes.indices = (bvh.scene_triangle.capacity() + bvh.leaf_of.capacity() + bvh.object.capacity()) * sizeof(std::uint32_t);
+  bytes.indices = (bvh.scene_triangle.capacity() + bvh.object.capacity()) * sizeof(std::uint32_t);
   return bytes;
 }
 
@@ -329,7 +333,15 @@ void Bvh::refit(std::span<const glm::vec3> vertices) {
         return largest;
       },
       [](float x, float y) { return std::max(x, y); });
-  refit_node(*this, 0);
+  std::vector<std::uint32_t> leaf_of(triangle_count());
+  for (const Node& node : nodes) {
+    for (int k = 0; k < node.child_count; ++k) {
+      if (node.leaf_size[k] == 0) continue;
+      const LeafBlock leaf = leaf_at(node.child[k]);
+      std::fill_n(leaf_of.begin() + leaf.first, leaf.count, node.child[k]);
+    }
+  }
+  refit_node(*this, leaf_of, 0);
 }
 
 }  // namespace exao::bvh

@@ -110,7 +110,6 @@ struct Bvh {
   // leaves only: each a LeafHeader then its rows, back to back, in node order.
   std::vector<float, lut::CacheLineAllocator<float>> leaf_floats;
   std::size_t leaf_count = 0;
-  std::vector<std::uint32_t> leaf_of;          // per triangle: its leaf's place in leaf_floats
   std::vector<std::uint32_t> scene_triangle;   // per triangle: its index in the scene
   std::vector<std::uint32_t> object;           // per triangle: Scene::object; empty when every one is 0
   /// The scene's cut-outs when any triangle is alpha-tested (LeafBlock::cutout), else null.
@@ -120,7 +119,7 @@ struct Bvh {
 
   [[nodiscard]] std::size_t triangle_count() const { return scene_triangle.size(); }
   [[nodiscard]] std::uint32_t object_of(std::uint32_t t) const { return object.empty() ? 0u : object[t]; }
-  /// The leaf at `place` in leaf_floats (Node::child of a leaf slot, leaf_of).
+  /// The leaf at `place` in leaf_floats (Node::child of a leaf slot).
   [[nodiscard, gnu::always_inline]] LeafBlock leaf_at(std::uint32_t place) const {
     LeafHeader header{};
     std::memcpy(&header, leaf_floats.data() + place, sizeof header);
@@ -155,7 +154,7 @@ struct Bvh {
 struct BvhBytes {
   std::size_t nodes = 0;    // Node, 184 bytes each
   std::size_t leaves = 0;   // the leaves' headers and rows: 120, 224 or 432 bytes a leaf (up to 2, 4, 8 triangles)
-  std::size_t indices = 0;  // scene_triangle, leaf_of and object (when kept), 4 bytes a triangle each
+  std::size_t indices = 0;  // scene_triangle and object (when kept), 4 bytes a triangle each
   [[nodiscard]] std::size_t total() const { return nodes + leaves + indices; }
 };
 [[nodiscard]] BvhBytes memory_bytes(const Bvh& bvh);
@@ -182,10 +181,5 @@ struct BvhBytes {
   return p;
 }
 
-/// Triangle t (leaf order): its leaf's lanes, and its lane there.
-[[nodiscard]] inline LeafBlock triangle_block(const Bvh& bvh, std::uint32_t t) { return bvh.leaf_at(bvh.leaf_of[t]); }
-[[nodiscard]] inline int triangle_lane(const Bvh& bvh, std::uint32_t t) {
-  return static_cast<int>(t - triangle_block(bvh, t).first);
-}
 
 }  // namespace exao::bvh

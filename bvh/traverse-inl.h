@@ -99,9 +99,9 @@ template <int Bits>
   return clusters;
 }
 
-// The lanes of the triangles t[0..n) (padding lanes NaN, as the builder's): the same floats as
-// their own leaves' rows, so leaf_setup gives the same bits.
-inline LeafBlock gather_block(const Bvh& bvh, const std::uint32_t* t, int n, LeafLanes& lanes) {
+// The lanes of the cached occluders [first, first + n) of `cache` (padding lanes NaN, as the
+// builder's): the same floats as their own leaves' rows, so leaf_setup gives the same bits.
+inline LeafBlock gather_block(const Bvh& bvh, const OccluderCache& cache, int first, int n, LeafLanes& lanes) {
   const float nan = std::numeric_limits<float>::quiet_NaN();
   std::uint32_t two_sided = 0, cutout = 0;
   for (int l = 0; l < LeafBlock::kLanes; ++l) {
@@ -109,11 +109,9 @@ inline LeafBlock gather_block(const Bvh& bvh, const std::uint32_t* t, int n, Lea
       for (int r = 0; r < kLeafRows; ++r) lanes.rows[r * LeafBlock::kLanes + l] = nan;
       continue;
     }
-    const LeafBlock from = triangle_block(bvh, t[l]);
-    const int k = triangle_lane(bvh, t[l]);
-    const float* const from_rows[kLeafRows] = {from.v0x(), from.v0y(), from.v0z(), from.v1x(), from.v1y(), from.v1z(), from.v2x(),
-                                               from.v2y(), from.v2z(), from.cx(),  from.cy(),  from.cz(),  from.radius()};
-    for (int r = 0; r < kLeafRows; ++r) lanes.rows[r * LeafBlock::kLanes + l] = from_rows[r][k];
+    const LeafBlock from = bvh.leaf_at(cache.place[first + l]);
+    const int k = cache.lane[first + l];
+    for (int r = 0; r < kLeafRows; ++r) lanes.rows[r * LeafBlock::kLanes + l] = from.row(r)[k];
     two_sided |= ((from.two_sided >> k) & 1u) << l;
     cutout |= ((from.cutout >> k) & 1u) << l;
   }
@@ -169,19 +167,19 @@ inline int mask_cached_occluders(const Bvh& bvh, const lut::MaskEngine& engine, 
   for (int first = 0; first < previous.count && allowed; first += LeafBlock::kLanes) {
     const int n = std::min(LeafBlock::kLanes, previous.count - first);
     LeafLanes lanes;
-    const LeafBlock block = gather_block(bvh, previous.triangle + first, n, lanes);
+    const LeafBlock block = gather_block(bvh, previous, first, n, lanes);
     LeafSetup setup;
     std::uint32_t live = leaf_setup<Certain>(engine.kernel_context(), block, frame, g, setup) & ((1u << n) - 1u);
     for (; live && allowed; live &= live - 1) {
       const int l = std::countr_zero(live);
-      const std::uint32_t t = previous.triangle[first + l];
+      const std::uint32_t t = bvh.leaf_at(previous.place[first + l]).first + previous.lane[first + l];
       if (frame.excluded_object != kNoObject && bvh.object_of(t) == frame.excluded_object) continue;
       const Mask<Bits> sure =
           finish_triangle<Bits, Certain>(bvh, engine, block, t, setup, l, frame, g, allowed, counters, maybe);
       if (popcount_and_not(sure, blocked) == 0) continue;
       blocked |= sure;
       allowed &= lut::open_clusters(blocked, n_rays);
-      next.add(t);
+      next.add(previous.place[first + l], previous.lane[first + l]);
     }
   }
   return previous.count;
@@ -289,7 +287,7 @@ template <int Bits, bool Stats, bool Certain>
     const bool blocks = popcount_and_not(sure, state.blocked) > 0;
     if constexpr (Stats) stats->triangles_blocking += blocks;
     if (!blocks) continue;
-    state.next.add(first + l);
+    state.next.add(place, l);
     state.blocked |= sure;
     allowed &= lut::open_clusters(state.blocked, n_rays);
     if (!allowed) break;

@@ -75,15 +75,16 @@ struct HybridOutcome {
 /// receivers. A traversal given a cache masks these first (they most likely block the same rays
 /// here), then traverses as before, and leaves its own occluders in the cache for the next
 /// receiver. The masks are the same bits with or without it; only the work changes. One cache
-/// per thread and per run of receivers in a coherent order, on one Bvh (indices into
-/// the tree's triangle numbers, leaf order).
+/// per thread and per run of receivers in a coherent order, on one Bvh (each occluder its
+/// leaf's place, Bvh::leaf_at, and its lane there).
 struct OccluderCache {
   static constexpr int kMax = 64;
   int count = 0;
-  std::uint32_t triangle[kMax];
+  std::uint32_t place[kMax];
+  std::uint8_t lane[kMax];
 
-  void add(std::uint32_t t) {
-    if (count < kMax) triangle[count++] = t;
+  void add(std::uint32_t leaf_place, int leaf_lane) {
+    if (count < kMax) place[count] = leaf_place, lane[count++] = static_cast<std::uint8_t>(leaf_lane);
   }
 };
 
