@@ -20,6 +20,11 @@ namespace {
 
 constexpr std::size_t kGrain = 1 << 14;
 
+// Whether any triangle belongs to an object other than 0 (else the tree keeps no objects).
+bool any_object(const std::vector<std::uint32_t>& object) {
+  return std::any_of(object.begin(), object.end(), [](std::uint32_t o) { return o != 0; });
+}
+
 // Where the triangles come from: a TriangleSet (spheres already computed) or a Scene (computed
 // here by the same function, so the floats are the same).
 struct SetSource {
@@ -27,7 +32,7 @@ struct SetSource {
   [[nodiscard]] std::size_t size() const { return set.size(); }
   [[nodiscard]] glm::vec3 vertex(std::size_t t, int k) const { return k == 0 ? set.v0[t] : k == 1 ? set.v1[t] : set.v2[t]; }
   [[nodiscard]] lut::PackedTriangle packed(std::size_t t) const { return set.packed(t); }
-  [[nodiscard]] bool has_objects() const { return std::any_of(set.object.begin(), set.object.end(), [](std::uint32_t o) { return o != 0; }); }
+  [[nodiscard]] bool has_objects() const { return any_object(set.object); }
   [[nodiscard]] std::uint32_t object(std::size_t t) const { return set.object[t]; }
   [[nodiscard]] std::shared_ptr<const Cutouts> cutouts() const { return set.cutouts; }
   void release() const {}
@@ -49,9 +54,7 @@ struct SceneSource {
     p.object = t < scene.object.size() ? scene.object[t] : 0u;
     return p;
   }
-  [[nodiscard]] bool has_objects() const {
-    return std::any_of(scene.object.begin(), scene.object.end(), [](std::uint32_t o) { return o != 0; });
-  }
+  [[nodiscard]] bool has_objects() const { return any_object(scene.object); }
   [[nodiscard]] std::uint32_t object(std::size_t t) const { return t < scene.object.size() ? scene.object[t] : 0u; }
   [[nodiscard]] std::shared_ptr<const Cutouts> cutouts() const {
     return scene.cutouts && scene.cutouts->any() ? scene.cutouts : nullptr;

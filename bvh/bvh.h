@@ -181,5 +181,4 @@ struct BvhBytes {
   return p;
 }
 
-
 }  // namespace exao::bvh

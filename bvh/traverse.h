@@ -110,8 +110,8 @@ struct TraverseFunctions {
   Function counted;
   Function certain;          // the sure mask; the rest in *outcome
   Function certain_counted;
-  // For tests: the mask of each triangle of the leaf whose first triangle is `first`, through
-  // the leaf's set-up in lanes (out[k] for triangle first + k).
+  // For tests: the mask of each triangle of the leaf at `place` (Bvh::leaf_at), through the
+  // leaf's set-up in lanes (out[k] for its lane k).
   void (*leaf_masks)(const Bvh&, const lut::MaskEngine&, const Frame&, std::uint32_t place, int count, std::uint64_t allowed,
                      Mask<Bits>* out);
 };

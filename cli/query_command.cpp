@@ -30,18 +30,17 @@ void print_bvh_bytes(const bvh::Bvh& tree) {
   const bvh::BvhBytes bytes = bvh::memory_bytes(tree);
   const double n = static_cast<double>(tree.triangle_count());
   const auto per = [&](std::size_t b) { return static_cast<double>(b) / n; };
+  const double leaves = static_cast<double>(std::max<std::size_t>(1, tree.leaf_count));
   std::printf("bvh memory: %.1f bytes a triangle: nodes %.1f (%zu), leaves %.1f (%zu, %.2f triangles a leaf), "
               "indices %.1f\n",
-              per(bytes.total()), per(bytes.nodes), tree.nodes.size(), per(bytes.leaves), tree.leaf_count,
-              n / static_cast<double>(std::max<std::size_t>(1, tree.leaf_count)), per(bytes.indices));
-  std::size_t by_size[9] = {};
+              per(bytes.total()), per(bytes.nodes), tree.nodes.size(), per(bytes.leaves), tree.leaf_count, n / leaves,
+              per(bytes.indices));
+  std::size_t by_size[9] = {};  // [0]: internal children, not printed
   for (const bvh::Node& node : tree.nodes) {
     for (int k = 0; k < node.child_count; ++k) ++by_size[node.leaf_size[k]];
   }
   std::printf("leaves by size:");
-  for (int size = 1; size <= 8; ++size) {
-    std::printf(" %d: %.1f%%", size, 100.0 * static_cast<double>(by_size[size]) / static_cast<double>(std::max<std::size_t>(1, tree.leaf_count)));
-  }
+  for (int size = 1; size <= 8; ++size) std::printf(" %d: %.1f%%", size, 100.0 * static_cast<double>(by_size[size]) / leaves);
   std::printf("\n");
 }
 

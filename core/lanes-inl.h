@@ -168,7 +168,6 @@ struct Lanes8 {
   using F = __m256;
   using M = __m256;  // all-ones or all-zeros per lane
   static F load(const float* p) { return _mm256_load_ps(p); }
-  static F loadu(const float* p) { return _mm256_loadu_ps(p); }
   // The first n floats at p into the low lanes, NaN above (a BVH leaf's row of n, bvh::leaf_width),
   // without a branch on n: leaves of every width come in any order. Masked lanes are not read.
   static F load_first(const float* p, int n) {

@@ -362,8 +362,6 @@ template <int Bits>
   return removed;
 }
 
-// Steps 6a-7 of triangle_mask, after triangle_setup (or the leaf's set-up in lanes) has let the
-// triangle through.
 // The surface rule (core/surface_rule.h) on a triangle's stored world floats.
 [[nodiscard]] inline bool on_triangle_plane(const PackedTriangle& tri, const glm::vec3& origin) {
   return origin_on_plane(tri.v0, tri.v1, tri.v2, origin);
@@ -374,6 +372,8 @@ template <int Bits>
 // (a lane of a BVH leaf, bvh/traverse-inl.h, whose floats are gathered only then).
 [[nodiscard]] inline const PackedTriangle& packed_of(const PackedTriangle& tri) { return tri; }
 
+// Steps 6a-7 of triangle_mask, after triangle_setup (or the leaf's set-up in lanes) has let the
+// triangle through.
 template <int Bits, class Triangle>
 [[nodiscard]] inline Mask<Bits> triangle_finish(const KernelContext& ctx, const Triangle& tri,
                                                 const TriangleSetup& s, const Frame& frame, std::uint64_t allowed,
