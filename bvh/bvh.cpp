@@ -10,6 +10,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
+#include <tbb/task_group.h>
 
 #include "bvh/sah_builder.h"
 #include "core/check.h"
@@ -65,27 +66,74 @@ struct SceneSource {
   }
 };
 
-// A sphere around the box centre holding every triangle sphere of the subtree (tighter than
-// the box's circumsphere), radius rounded up past the float centre: the region mask of this
-// sphere must contain those of the triangles' spheres (lut/sphere_test.h, nesting).
-// `leaf_of`: per triangle, its leaf's place (the build's own, freed after the spheres).
-void set_sphere(Node& node, int slot, const Bvh& bvh, const std::vector<std::uint32_t>& leaf_of, std::uint32_t first,
-                std::uint32_t last) {
+// The farthest reach from `centre` of a triangle sphere of the leaf: |c - centre| + r, at least
+// `found`.
+double leaf_reach(const LeafBlock& leaf, const glm::dvec3& centre, double found) {
+  for (int l = 0; l < static_cast<int>(leaf.count); ++l) {
+    const glm::dvec3 c(leaf.cx()[l], leaf.cy()[l], leaf.cz()[l]);
+    found = std::max(found, glm::length(c - centre) + double(leaf.radius()[l]));
+  }
+  return found;
+}
+
+// The same over every leaf below node `index`, whose spheres are set. A child's sphere holds
+// every triangle sphere below it, so |its centre - centre| + its radius bounds their reach:
+// a child whose bound is no farther than the reach found so far is not opened, and the result
+// is the same maximum as a visit of every triangle. The bound is computed in doubles from
+// floats, as the reaches are, and a child's radius carries a relative margin of 1e-6 (set_sphere),
+// so a factor of 1 + 1e-12 covers the rounding of both.
+double subtree_reach(const Bvh& bvh, std::uint32_t index, const glm::dvec3& centre, double found) {
+  const Node& node = bvh.nodes[index];
+  int order[kMaxChildren];
+  double bound[kMaxChildren];
+  for (int k = 0; k < node.child_count; ++k) {
+    const glm::dvec3 c(node.centre_x[k], node.centre_y[k], node.centre_z[k]);
+    bound[k] = glm::length(c - centre) + double(node.radius[k]);
+    order[k] = k;
+  }
+  // Farthest first, so that the nearer children are pruned by what it finds.
+  std::sort(order, order + node.child_count, [&](int a, int b) { return bound[a] > bound[b]; });
+  for (int i = 0; i < node.child_count; ++i) {
+    const int k = order[i];
+    if (bound[k] * (1.0 + 1e-12) <= found) continue;
+    found = node.leaf_size[k] != 0 ? leaf_reach(bvh.leaf_at(node.child[k]), centre, found)
+                                   : subtree_reach(bvh, node.child[k], centre, found);
+  }
+  return found;
+}
+
+// A sphere around the box centre of slot `slot` holding every triangle sphere below it (tighter
+// than the box's circumsphere), radius rounded up past the float centre: the region mask of
+// this sphere must contain those of the triangles' spheres (lut/sphere_test.h, nesting). A
+// child node's spheres must be set first.
+void set_sphere(Node& node, int slot, const Bvh& bvh) {
   const glm::vec3 centre_f(0.5f * (node.lo_x[slot] + node.hi_x[slot]), 0.5f * (node.lo_y[slot] + node.hi_y[slot]),
                            0.5f * (node.lo_z[slot] + node.hi_z[slot]));
   const glm::dvec3 centre(centre_f);
-  double radius = 0.0;
-  for (std::uint32_t t = first; t < last;) {
-    const LeafBlock block = bvh.leaf_at(leaf_of[t]);
-    for (int l = static_cast<int>(t - block.first); l < static_cast<int>(block.count) && t < last; ++l, ++t) {
-      const glm::dvec3 c(block.cx()[l], block.cy()[l], block.cz()[l]);
-      radius = std::max(radius, glm::length(c - centre) + double(block.radius()[l]));
-    }
-  }
+  const double radius = node.leaf_size[slot] != 0 ? leaf_reach(bvh.leaf_at(node.child[slot]), centre, 0.0)
+                                                  : subtree_reach(bvh, node.child[slot], centre, 0.0);
   node.centre_x[slot] = centre_f.x;
   node.centre_y[slot] = centre_f.y;
   node.centre_z[slot] = centre_f.z;
   node.radius[slot] = std::nextafter(static_cast<float>(radius * (1.0 + 1e-6)), INFINITY);
+}
+
+// Every sphere of the subtree of node `index`, children before their parent; large subtrees'
+// children in parallel (`depth` levels below the root).
+void set_spheres(Bvh& bvh, std::uint32_t index, int depth) {
+  Node& node = bvh.nodes[index];
+  constexpr int kParallelDepth = 6;  // 4^6 tasks at most: enough for any core count here
+  const auto below = [&](int k) {
+    if (node.leaf_size[k] == 0) set_spheres(bvh, node.child[k], depth + 1);
+  };
+  if (depth < kParallelDepth) {
+    tbb::task_group group;
+    for (int k = 0; k < node.child_count; ++k) group.run([&, k] { below(k); });
+    group.wait();
+  } else {
+    for (int k = 0; k < node.child_count; ++k) below(k);
+  }
+  for (int k = 0; k < node.child_count; ++k) set_sphere(node, k, bvh);
 }
 
 // Lane l of the rows at `rows` (of `width` floats each, LeafRow's order).
@@ -129,7 +177,7 @@ float make_leaf(const Source& source, const std::vector<std::uint32_t>& order, s
 template <class Source>
 Result<Topology> topology_of(const Source& source, const BvhOptions& options, const ProgressCallback& progress) {
   const std::size_t n = source.size();
-  std::vector<BuildPrimitive> primitives;
+  BuildPrimitives primitives;
   reserve_huge(primitives, n);
   primitives.resize(n);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kGrain), [&](const tbb::blocked_range<std::size_t>& range) {
@@ -164,16 +212,13 @@ Result<std::vector<std::uint64_t>> leaf_places(Bvh& bvh) {
 }
 
 // Every leaf's header and rows at its place; a leaf slot's child becomes that place (it was the
-// leaf's first triangle, which the header keeps). Sets largest_coordinate, and each triangle's
-// leaf in `leaf_of`; progress from n to 2n.
+// leaf's first triangle, which the header keeps). Sets largest_coordinate; progress from n to 2n.
 template <class Source>
 void make_leaves(const Source& source, const std::vector<std::uint64_t>& first_float, Bvh& bvh,
-                 std::vector<std::uint32_t>& leaf_of, const ProgressCallback& progress) {
+                 const ProgressCallback& progress) {
   const std::size_t n = bvh.scene_triangle.size();
   reserve_huge(bvh.leaf_floats, first_float.back());
-  bvh.leaf_floats.resize(first_float.back());
-  reserve_huge(leaf_of, n);
-  leaf_of.assign(n, 0);
+  bvh.leaf_floats.resize(first_float.back());  // unwritten until make_leaf writes every float
   std::atomic<std::size_t> placed{0};
   bvh.largest_coordinate = tbb::parallel_reduce(
       tbb::blocked_range<std::size_t>(0, bvh.nodes.size(), 256), 0.0f,
@@ -187,7 +232,6 @@ void make_leaves(const Source& source, const std::vector<std::uint64_t>& first_f
             if (size == 0) continue;
             const std::uint32_t first = node.child[k];
             largest = std::max(largest, make_leaf(source, bvh.scene_triangle, first, size, bvh.leaf_floats.data() + place));
-            for (int l = 0; l < size; ++l) leaf_of[first + static_cast<std::uint32_t>(l)] = place;
             node.child[k] = place;
             triangles += static_cast<std::size_t>(size);
             place += static_cast<std::uint32_t>(leaf_floats_of(size));
@@ -222,40 +266,28 @@ Result<Bvh> build_from(const Source& source, const BvhOptions& options, const Pr
   }
   Result<std::vector<std::uint64_t>> first_float = leaf_places(bvh);
   if (!first_float) return std::unexpected(first_float.error());
-  std::vector<std::uint32_t> leaf_of;
-  make_leaves(source, *first_float, bvh, leaf_of, progress);
+  make_leaves(source, *first_float, bvh, progress);
   source.release();
-
-  const std::vector<Topology::SlotRange>& ranges = topology->ranges;
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, bvh.nodes.size(), 256), [&](const tbb::blocked_range<std::size_t>& range) {
-    for (std::size_t i = range.begin(); i != range.end(); ++i) {
-      Node& node = bvh.nodes[i];
-      for (int k = 0; k < node.child_count; ++k) set_sphere(node, k, bvh, leaf_of, ranges[i].first[k], ranges[i].last[k]);
-    }
-  });
+  set_spheres(bvh, 0, 0);
   return bvh;
 }
 
 // Refit's bottom-up pass over the subtree of node `index`: every child slot gets its box (of its
-// triangles' vertices in the blocks, as the builder's) and sphere (set_sphere, as build's).
-// Returns the subtree's box and its range [first, last) of triangles. The depth is at most 64
-// (the builder's limit), so recursion is safe.
-struct Extent {
+// triangles' vertices in the leaves, as the builder's) and sphere (set_sphere, as build's).
+// Returns the subtree's box. The depth is at most 64 (the builder's limit), so recursion is safe.
+struct Box3 {
   glm::vec3 lo{INFINITY}, hi{-INFINITY};
-  std::uint32_t first = UINT32_MAX, last = 0;
 };
 
-Extent refit_node(Bvh& bvh, const std::vector<std::uint32_t>& leaf_of, std::uint32_t index) {
+Box3 refit_node(Bvh& bvh, std::uint32_t index) {
   Node& node = bvh.nodes[index];
-  Extent whole;
+  Box3 whole;
   for (int k = 0; k < node.child_count; ++k) {
-    Extent child;
+    Box3 child;
     if (node.leaf_size[k] == 0) {
-      child = refit_node(bvh, leaf_of, node.child[k]);
+      child = refit_node(bvh, node.child[k]);
     } else {
       const LeafBlock block = bvh.leaf_at(node.child[k]);
-      child.first = block.first;
-      child.last = block.first + block.count;
       for (int l = 0; l < node.leaf_size[k]; ++l) {
         const lut::PackedTriangle t = block_triangle(block, l);
         for (const glm::vec3& v : {t.v0, t.v1, t.v2}) {
@@ -266,11 +298,9 @@ Extent refit_node(Bvh& bvh, const std::vector<std::uint32_t>& leaf_of, std::uint
     }
     node.lo_x[k] = child.lo.x, node.lo_y[k] = child.lo.y, node.lo_z[k] = child.lo.z;
     node.hi_x[k] = child.hi.x, node.hi_y[k] = child.hi.y, node.hi_z[k] = child.hi.z;
-    set_sphere(node, k, bvh, leaf_of, child.first, child.last);
+    set_sphere(node, k, bvh);
     whole.lo = glm::min(whole.lo, child.lo);
     whole.hi = glm::max(whole.hi, child.hi);
-    whole.first = std::min(whole.first, child.first);
-    whole.last = std::max(whole.last, child.last);
   }
   return whole;
 }
@@ -336,15 +366,7 @@ void Bvh::refit(std::span<const glm::vec3> vertices) {
         return largest;
       },
       [](float x, float y) { return std::max(x, y); });
-  std::vector<std::uint32_t> leaf_of(triangle_count());
-  for (const Node& node : nodes) {
-    for (int k = 0; k < node.child_count; ++k) {
-      if (node.leaf_size[k] == 0) continue;
-      const LeafBlock leaf = leaf_at(node.child[k]);
-      std::fill_n(leaf_of.begin() + leaf.first, leaf.count, node.child[k]);
-    }
-  }
-  refit_node(*this, leaf_of, 0);
+  refit_node(*this, 0);
 }
 
 }  // namespace exao::bvh

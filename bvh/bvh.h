@@ -13,6 +13,7 @@
 #include <glm/glm.hpp>
 
 #include "core/cutouts.h"
+#include "core/default_init_allocator.h"
 #include "core/error.h"
 #include "core/progress.h"
 #include "core/scene.h"
@@ -108,7 +109,7 @@ struct Bvh {
   std::vector<Node> nodes;          // nodes[0] is the root
   // The triangles are numbered in leaf order (a leaf's are contiguous). Their floats live in the
   // leaves only: each a LeafHeader then its rows, back to back, in node order.
-  std::vector<float, lut::CacheLineAllocator<float>> leaf_floats;
+  std::vector<float, DefaultInitAllocator<float, lut::CacheLineAllocator<float>>> leaf_floats;
   std::size_t leaf_count = 0;
   std::vector<std::uint32_t> scene_triangle;   // per triangle: its index in the scene
   std::vector<std::uint32_t> object;           // per triangle: Scene::object; empty when every one is 0

@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <deque>
+#include <memory>
 #include <limits>
 #include <string>
 
@@ -26,6 +26,7 @@ constexpr int kBins = 32;  // Embree's NUM_OBJECT_BINS
 constexpr int kMaxDepth = 64;
 constexpr int kSahDepth = 56;
 constexpr std::size_t kParallelSubtree = 4096;   // smaller subtrees are one task
+constexpr std::uint32_t kParallelFlatten = 1024;  // nodes: smaller subtrees are flattened by one task
 constexpr std::size_t kParallelRange = 1 << 17;  // larger ranges are binned and bounded in parallel
 constexpr std::size_t kGrain = 1 << 15;
 constexpr float kInf = std::numeric_limits<float>::infinity();
@@ -112,14 +113,14 @@ bool centroid_less(const BuildPrimitive& x, const BuildPrimitive& y, int axis) {
 
 class Builder {
  public:
-  Builder(std::vector<BuildPrimitive>& prims, const BvhOptions& options, const SahCosts& costs,
+  Builder(BuildPrimitives& prims, const BvhOptions& options, const SahCosts& costs,
           const ProgressCallback& progress)
       : prims_(prims), options_(options), costs_(costs), progress_(progress, prims.size()) {}
 
   struct TmpNode {
     Node node{};
-    Topology::SlotRange range{};
     TmpNode* child[kMaxChildren] = {};
+    std::uint32_t subtree_nodes = 1;  // this node and every node below it
   };
 
   Range whole() { return bounded(0, prims_.size()); }
@@ -129,8 +130,6 @@ class Builder {
     Node& p = parent.node;
     p.lo_x[slot] = r.geometry.lo[0], p.lo_y[slot] = r.geometry.lo[1], p.lo_z[slot] = r.geometry.lo[2];
     p.hi_x[slot] = r.geometry.hi[0], p.hi_y[slot] = r.geometry.hi[1], p.hi_z[slot] = r.geometry.hi[2];
-    parent.range.first[slot] = static_cast<std::uint32_t>(r.begin);
-    parent.range.last[slot] = static_cast<std::uint32_t>(r.end);
     const std::size_t n = r.size();
     const bool by_count = depth >= kSahDepth;
     const Split split = n > 1 && !by_count ? find_split(r) : Split{};
@@ -146,7 +145,7 @@ class Builder {
       too_deep_ = true;
       return;
     }
-    TmpNode& node = storage_.local().emplace_back();
+    TmpNode& node = storage_.local().make();
     parent.child[slot] = &node;
     p.leaf_size[slot] = 0;
 
@@ -175,6 +174,8 @@ class Builder {
     } else {
       for (int k = 0; k < count; ++k) build(children[k], depth + 1, node, k);
     }
+    for (int k = 0; k < count; ++k)
+      if (node.child[k] != nullptr) node.subtree_nodes += node.child[k]->subtree_nodes;
   }
 
   [[nodiscard]] bool too_deep() const { return too_deep_; }
@@ -309,38 +310,54 @@ class Builder {
     right = bounded(middle, r.end);
   }
 
-  std::vector<BuildPrimitive>& prims_;
+  BuildPrimitives& prims_;
   const BvhOptions& options_;
   SahCosts costs_;
   ProgressCounter progress_;
-  tbb::enumerable_thread_specific<std::deque<TmpNode>> storage_;
+  // The nodes before flattening, in chunks per thread: a deque's 512-byte blocks were a malloc
+  // every second node, a million at 8M triangles.
+  struct NodeArena {
+    static constexpr std::size_t kChunk = 4096;
+    std::vector<std::unique_ptr<TmpNode[]>> chunks;
+    std::size_t used = kChunk;
+    TmpNode& make() {
+      if (used == kChunk) chunks.push_back(std::make_unique<TmpNode[]>(kChunk)), used = 0;
+      return chunks.back()[used++];
+    }
+  };
+  tbb::enumerable_thread_specific<NodeArena> storage_;
   std::atomic<bool> too_deep_{false};
 };
 
-// Depth first, a node before its children, children in slot order: the layout Embree's tree
-// was flattened into before, so that a subtree's nodes sit together.
-std::uint32_t flatten(const Builder::TmpNode& t, Topology& out) {
-  const auto index = static_cast<std::uint32_t>(out.nodes.size());
-  out.nodes.push_back(t.node);
-  out.ranges.push_back(t.range);
+// Writes the subtree of `t` from out.nodes[index] on: depth first, a node before its children,
+// children in slot order (the layout Embree's tree was flattened into before, so that a
+// subtree's nodes sit together). Each child's place follows from its elder siblings' subtree
+// sizes, so large subtrees are written in parallel.
+void flatten(const Builder::TmpNode& t, std::uint32_t index, Topology& out) {
+  Node& node = out.nodes[index];
+  node = t.node;
+  std::uint32_t places[kMaxChildren];
+  std::uint32_t next = index + 1;
   for (int k = 0; k < t.node.child_count; ++k) {
     if (t.node.leaf_size[k] != 0) continue;
-    const std::uint32_t child = flatten(*t.child[k], out);
-    out.nodes[index].child[k] = child;
+    node.child[k] = places[k] = next;
+    next += t.child[k]->subtree_nodes;
   }
-  return index;
-}
-
-std::size_t count_nodes(const Builder::TmpNode& t) {
-  std::size_t n = 1;
+  const auto internal = [&](int k) { return t.node.leaf_size[k] == 0; };
+  if (t.subtree_nodes < kParallelFlatten) {
+    for (int k = 0; k < t.node.child_count; ++k)
+      if (internal(k)) flatten(*t.child[k], places[k], out);
+    return;
+  }
+  tbb::task_group group;
   for (int k = 0; k < t.node.child_count; ++k)
-    if (t.node.leaf_size[k] == 0) n += count_nodes(*t.child[k]);
-  return n;
+    if (internal(k)) group.run([&, k] { flatten(*t.child[k], places[k], out); });
+  group.wait();
 }
 
 }  // namespace
 
-Result<Topology> build_topology(std::vector<BuildPrimitive>& primitives, const BvhOptions& options, const SahCosts& costs,
+Result<Topology> build_topology(BuildPrimitives& primitives, const BvhOptions& options, const SahCosts& costs,
                                 const ProgressCallback& progress) {
   if (primitives.empty()) return fail("bvh: the scene has no triangles");
   if (auto ok = check_options(options); !ok) return std::unexpected(ok.error());
@@ -356,12 +373,10 @@ Result<Topology> build_topology(std::vector<BuildPrimitive>& primitives, const B
   Topology out;
   if (top.node.leaf_size[0] != 0) {
     out.nodes.push_back(top.node);
-    out.ranges.push_back(top.range);
   } else {
-    const std::size_t nodes = count_nodes(*top.child[0]);
-    out.nodes.reserve(nodes);
-    out.ranges.reserve(nodes);
-    flatten(*top.child[0], out);
+    reserve_huge(out.nodes, top.child[0]->subtree_nodes);
+    out.nodes.resize(top.child[0]->subtree_nodes);
+    flatten(*top.child[0], 0, out);
   }
   reserve_huge(out.order, primitives.size());
   out.order.resize(primitives.size());

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "bvh/bvh.h"
+#include "core/default_init_allocator.h"
 #include "core/error.h"
 #include "core/progress.h"
 
@@ -23,6 +24,7 @@ struct BuildPrimitive {
   float unused;
 };
 static_assert(sizeof(BuildPrimitive) == 32);
+using BuildPrimitives = std::vector<BuildPrimitive, DefaultInitAllocator<BuildPrimitive>>;
 
 /// Embree's costs (rtcBuildBVH's traversalCost and intersectionCost, as bvh.cpp gave them):
 /// the tree then visits the nodes and triangles Embree's did, within 0.5%. A lower intersection
@@ -40,21 +42,16 @@ struct SahCosts {
 };
 
 /// The tree, flattened depth first (nodes[0] the root), boxes, children and leaf sizes set; the
-/// spheres left zero. Child k of node i holds the triangles order[first[i][k] .. last[i][k]).
+/// spheres left zero. A leaf slot's child is its first triangle in `order`.
 struct Topology {
   std::vector<Node> nodes;
-  struct SlotRange {
-    std::uint32_t first[kMaxChildren];
-    std::uint32_t last[kMaxChildren];
-  };
-  std::vector<SlotRange> ranges;      // per node
   std::vector<std::uint32_t> order;   // leaf order: the caller's index of every triangle
 };
 
 /// Builds over `primitives` (reordered in place; at least one). Fails only when the tree would
 /// be deeper than traversal's stack allows (64 levels), which takes millions of triangles with
 /// the same centroid. `progress` gets (triangles placed in leaves, total).
-[[nodiscard]] Result<Topology> build_topology(std::vector<BuildPrimitive>& primitives, const BvhOptions& options,
+[[nodiscard]] Result<Topology> build_topology(BuildPrimitives& primitives, const BvhOptions& options,
                                               const SahCosts& costs = {}, const ProgressCallback& progress = {});
 
 }  // namespace exao::bvh

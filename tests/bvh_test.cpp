@@ -167,5 +167,79 @@ TEST(Bvh, SingleTriangleScene) {
   EXPECT_EQ(masks.bits(), lut::brute_occlusion(*engine, triangles, std::span(&below, 1)).bits());
 }
 
+// The node spheres are their definition (bvh.cpp set_sphere): centred on the box, radius the
+// farthest reach |c - centre| + r of a triangle sphere below, in doubles, rounded up. The build
+// finds that maximum by pruning subtrees with their own spheres; here every triangle below is
+// visited. The nodes are laid out depth first, a subtree's nodes together.
+struct SphereCheck {
+  const bvh::Bvh& tree;
+  std::size_t slots = 0;
+
+  // Appends the triangle spheres below slot k of node `index` to `out` (as centre, radius).
+  void gather(std::uint32_t index, int k, std::vector<glm::vec4>& out) const {
+    const bvh::Node& node = tree.nodes[index];
+    if (node.leaf_size[k] != 0) {
+      const bvh::LeafBlock leaf = tree.leaf_at(node.child[k]);
+      for (int l = 0; l < static_cast<int>(leaf.count); ++l)
+        out.emplace_back(leaf.cx()[l], leaf.cy()[l], leaf.cz()[l], leaf.radius()[l]);
+      return;
+    }
+    for (int j = 0; j < tree.nodes[node.child[k]].child_count; ++j) gather(node.child[k], j, out);
+  }
+
+  // Checks the subtree of node `index`, placed at `index`; returns its node count.
+  std::uint32_t check(std::uint32_t index) {
+    const bvh::Node& node = tree.nodes[index];
+    std::uint32_t next = index + 1;
+    for (int k = 0; k < node.child_count; ++k) {
+      std::vector<glm::vec4> spheres;
+      gather(index, k, spheres);
+      const glm::vec3 centre_f(0.5f * (node.lo_x[k] + node.hi_x[k]), 0.5f * (node.lo_y[k] + node.hi_y[k]),
+                               0.5f * (node.lo_z[k] + node.hi_z[k]));
+      double reach = 0.0;
+      for (const glm::vec4& s : spheres) {
+        reach = std::max(reach, glm::length(glm::dvec3(s.x, s.y, s.z) - glm::dvec3(centre_f)) + double(s.w));
+      }
+      const float radius = std::nextafter(static_cast<float>(reach * (1.0 + 1e-6)), INFINITY);
+      EXPECT_EQ(node.centre_x[k], centre_f.x);
+      EXPECT_EQ(node.centre_y[k], centre_f.y);
+      EXPECT_EQ(node.centre_z[k], centre_f.z);
+      EXPECT_EQ(node.radius[k], radius) << "node " << index << " slot " << k << " of " << spheres.size() << " triangles";
+      ++slots;
+      if (node.leaf_size[k] != 0) continue;
+      EXPECT_EQ(node.child[k], next) << "node " << index << " slot " << k << ": not depth first";
+      next += check(node.child[k]);
+    }
+    return next - index;
+  }
+};
+
+void expect_spheres_are_their_definition(const Scene& scene, const std::string& name) {
+  SCOPED_TRACE(name);
+  for (const int branching : {2, 4}) {
+    Result<bvh::Bvh> tree = bvh::Bvh::build(scene, {branching, 8});
+    ASSERT_TRUE(tree.has_value()) << tree.error().message;
+    SphereCheck check{*tree};
+    EXPECT_EQ(check.check(0), tree->nodes.size());
+    EXPECT_GE(check.slots, tree->nodes.size());
+  }
+}
+
+TEST(Bvh, NodeSpheresAreTheirDefinition) {
+  expect_spheres_are_their_definition(make_room(), "room");
+  // Far from the origin the doubles' rounding is largest next to the spheres' own sizes.
+  Scene far = make_room();
+  for (glm::vec3& v : far.vertices) v = v * 1e-3f + glm::vec3(3e4f, -7e4f, 1e5f);
+  expect_spheres_are_their_definition(far, "room, small and far");
+}
+
+TEST(Bvh, NodeSpheresAreTheirDefinitionOnConference) {
+  const auto path = test::real_scene("Conference/conference.obj");
+  EXAO_REQUIRE_SCENE(path);
+  Result<Scene> loaded = load_polygon_soup(path.string());
+  ASSERT_TRUE(loaded.has_value()) << loaded.error().message;
+  expect_spheres_are_their_definition(*loaded, "conference");
+}
+
 }  // namespace
 }  // namespace exao
