@@ -75,10 +75,10 @@ Result<std::unique_ptr<Document::Impl>> read_gltf(const std::string& path) {
   }
   impl->embedded_buffers = all_embedded;
   impl->notes.insert(impl->notes.end(), file->notes.begin(), file->notes.end());
-  auto walk = walk_model(impl->model);
+  auto walk = walk_model(ModelBytes(impl->model));
   if (!walk) return std::unexpected(walk.error());
   impl->walk = std::move(*walk);
-  impl->walk.scene.cutouts = gltf::read_cutouts(impl->model, impl->walk, impl->image_bytes, impl->notes);
+  impl->walk.scene.cutouts = gltf::read_cutouts(ModelBytes(impl->model), impl->walk, impl->image_bytes, impl->notes);
   for (std::size_t i = 0; i < impl->model.images.size(); ++i) {
     const tinygltf::Image& image = impl->model.images[i];
     if (image.uri.empty() || is_data_uri(image.uri)) continue;
@@ -109,7 +109,7 @@ Result<Document> Document::from_scene(const Scene& scene, const ConvertOptions& 
   Result<tinygltf::Model> model = scene_to_gltf(scene, convert);
   if (!model) return std::unexpected(model.error());
   impl->model = std::move(*model);
-  auto walk = walk_model(impl->model);
+  auto walk = walk_model(ModelBytes(impl->model));
   if (!walk) return fail(scene.name + ": " + walk.error().message);
   impl->walk = std::move(*walk);
   impl->name = scene.name;

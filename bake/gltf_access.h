@@ -30,6 +30,7 @@ using gltf::kTexcoordTypes;
 using gltf::kUnsignedByte;
 using gltf::kUnsignedInt;
 using gltf::kUnsignedShort;
+using gltf::ModelBytes;
 using gltf::one_line;
 using gltf::read_accessor;
 

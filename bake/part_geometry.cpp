@@ -25,7 +25,7 @@ Result<std::vector<glm::vec3>> file_normals(const tinygltf::Model& model, const 
   const tinygltf::Primitive& gp = gltf_primitive(model, prim);
   const auto found = gp.attributes.find("NORMAL");
   if (found == gp.attributes.end()) return std::vector<glm::vec3>{};
-  auto values = read_accessor(model, found->second, 3, kNormalTypes, true, primitive_label(model, prim) + " NORMAL");
+  auto values = read_accessor(ModelBytes(model), found->second, 3, kNormalTypes, true, primitive_label(model, prim) + " NORMAL");
   if (!values) return std::unexpected(values.error());
   if (values->size() != 3 * prim.positions.size()) {
     return fail(primitive_label(model, prim) + ": NORMAL has a different count than POSITION");

@@ -20,7 +20,7 @@ Result<std::optional<std::vector<glm::dvec2>>> read_uv_set(const tinygltf::Model
   const auto found = gp.attributes.find(name);
   if (found == gp.attributes.end()) return std::optional<std::vector<glm::dvec2>>{};
   const std::string label = primitive_label(model, prim);
-  auto values = read_accessor(model, found->second, 2, kTexcoordTypes, true, label + " " + name);
+  auto values = read_accessor(ModelBytes(model), found->second, 2, kTexcoordTypes, true, label + " " + name);
   if (!values) return std::unexpected(values.error());
   if (values->size() != 2 * prim.positions.size()) return fail(label + ": " + name + " has a different count than POSITION");
   std::vector<glm::dvec2> uv(prim.positions.size());

@@ -37,7 +37,7 @@ Result<int> gather(tinygltf::Model& model, int index, std::span<const std::uint3
                    const std::string& what) {
   const int components = accessor_components(model, index);
   if (components == 0) return fail(what + " has an unknown type");
-  auto values = read_accessor(model, index, components, kAnyType, true, what);
+  auto values = read_accessor(ModelBytes(model), index, components, kAnyType, true, what);
   if (!values) return std::unexpected(values.error());
   const auto n = static_cast<std::size_t>(components);
   if (values->size() != vertex_count * n) return fail(what + " has a different count than POSITION");

@@ -24,7 +24,7 @@ Result<int> ao_accessor(tinygltf::Model& model, const tinygltf::Primitive& prim,
   // An existing colour is kept and darkened: RGB times AO, alpha as it was.
   const int components = accessor_components(model, color->second);
   if (components != 3 && components != 4) return fail(where + " COLOR_0 is neither VEC3 nor VEC4");
-  auto values = read_accessor(model, color->second, components, kColorTypes, true, where + " COLOR_0");
+  auto values = read_accessor(ModelBytes(model), color->second, components, kColorTypes, true, where + " COLOR_0");
   if (!values) return std::unexpected(values.error());
   const auto n = static_cast<std::size_t>(components);
   if (values->size() / n != ao.size()) return fail(where + " COLOR_0 has a different count than POSITION");

@@ -141,8 +141,9 @@ struct PrimitiveAttributes {
   std::vector<float> alpha;     // empty: no COLOR_0 (alpha 1)
 };
 
-PrimitiveAttributes read_attributes(const tinygltf::Model& model, const MeshPrimitive& primitive, bool textured,
+PrimitiveAttributes read_attributes(const ModelBytes& source, const MeshPrimitive& primitive, bool textured,
                                     const MaterialUv& uv, std::vector<std::string>& notes) {
+  const tinygltf::Model& model = source.model;
   PrimitiveAttributes out;
   const tinygltf::Primitive& p =
       model.meshes[static_cast<std::size_t>(primitive.mesh)].primitives[static_cast<std::size_t>(primitive.primitive)];
@@ -155,7 +156,7 @@ PrimitiveAttributes read_attributes(const tinygltf::Model& model, const MeshPrim
       notes.push_back(where + ": its cut-out material reads " + set + ", which it does not have: its triangles are opaque");
       return out;
     }
-    Result<std::vector<double>> values = read_accessor(model, found->second, 2, kTexcoordTypes, true, set);
+    Result<std::vector<double>> values = read_accessor(source, found->second, 2, kTexcoordTypes, true, set);
     if (!values || values->size() < 2 * vertices) {
       notes.push_back(where + ": " + (values ? set + " has fewer elements than POSITION" : values.error().message) +
                       ": its triangles are opaque");
@@ -172,7 +173,7 @@ PrimitiveAttributes read_attributes(const tinygltf::Model& model, const MeshPrim
     const bool rgba = index >= 0 && static_cast<std::size_t>(index) < model.accessors.size() &&
                       model.accessors[static_cast<std::size_t>(index)].type == TINYGLTF_TYPE_VEC4;
     if (rgba) {
-      Result<std::vector<double>> values = read_accessor(model, index, 4, kColorTypes, true, "COLOR_0");
+      Result<std::vector<double>> values = read_accessor(source, index, 4, kColorTypes, true, "COLOR_0");
       if (!values || values->size() < 4 * vertices) {
         notes.push_back(where + ": " + (values ? std::string("COLOR_0 has fewer elements than POSITION") : values.error().message) +
                         ": its triangles are opaque");
@@ -232,9 +233,10 @@ bool image_header_size(std::span<const std::uint8_t> b, std::uint32_t& width, st
   return false;
 }
 
-std::shared_ptr<const Cutouts> read_cutouts(const tinygltf::Model& model, const ModelWalk& walk,
+std::shared_ptr<const Cutouts> read_cutouts(const ModelBytes& bytes, const ModelWalk& walk,
                                             std::span<const std::vector<std::uint8_t>> image_bytes,
                                             std::vector<std::string>& notes) {
+  const tinygltf::Model& model = bytes.model;
   auto out = std::make_shared<Cutouts>();
   TextureReader textures(model, image_bytes, notes, *out);
   // Per glTF material: its index in out->materials (-1: OPAQUE) and its UV set.
@@ -275,7 +277,7 @@ std::shared_ptr<const Cutouts> read_cutouts(const tinygltf::Model& model, const 
     if (found == attributes.end()) {
       const bool textured = out->materials[static_cast<std::size_t>(cut)].texture >= 0;
       found = attributes
-                  .emplace(primitive, read_attributes(model, walk.primitives[static_cast<std::size_t>(primitive)], textured,
+                  .emplace(primitive, read_attributes(bytes, walk.primitives[static_cast<std::size_t>(primitive)], textured,
                                                       uv_of_material[static_cast<std::size_t>(m)], notes))
                   .first;
     }

@@ -45,7 +45,7 @@ bool keep_image_bytes(tinygltf::Image* image, int index, std::string* err, std::
 /// The model's cut-outs for the walk's scene triangles (nullptr when no triangle has a MASK or
 /// BLEND material), with the default policy's rules (MASK cuts out, BLEND opaque); notes in
 /// `notes` (see the file comment). `image_bytes[i]`: image i's encoded bytes (keep_image_bytes).
-[[nodiscard]] std::shared_ptr<const Cutouts> read_cutouts(const tinygltf::Model& model, const ModelWalk& walk,
+[[nodiscard]] std::shared_ptr<const Cutouts> read_cutouts(const ModelBytes& bytes, const ModelWalk& walk,
                                                           std::span<const std::vector<std::uint8_t>> image_bytes,
                                                           std::vector<std::string>& notes);
 

@@ -4,8 +4,11 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
+#include <optional>
 #include <utility>
 
+#include "io/glb_in_place.h"
 #include "io/gltf_compression.h"
 #include "io/gltf_guard.h"
 #include "io/gltf_model.h"
@@ -19,7 +22,29 @@ bool is_glb(const std::string& path) {
   return in.gcount() == 4 && std::memcmp(magic.data(), "glTF", 4) == 0;
 }
 
-Result<File> read_file(const std::string& path, tinygltf::LoadImageDataFunction images, void* user) {
+namespace {
+
+// Loads `path`'s model as tinygltf would, but with buffer 0's bytes left in the mapped file
+// (io/glb_in_place.h). False, with nothing changed, when the file does not qualify.
+bool load_in_place(tinygltf::TinyGLTF& context, const std::string& path, File& file, std::string& err,
+                   std::string& warn, bool& loaded) {
+  auto mapped = std::make_shared<const MappedFile>(path);
+  if (!mapped->ok()) return false;
+  const std::string_view bytes = mapped->bytes();
+  const std::optional<GlbInPlace> in_place =
+      glb_in_place({reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size()});
+  if (!in_place || in_place->container.size() > std::numeric_limits<unsigned int>::max()) return false;
+  const std::string base = std::filesystem::path(path).parent_path().string();
+  loaded = context.LoadBinaryFromMemory(&file.model, &err, &warn, in_place->container.data(),
+                                        static_cast<unsigned int>(in_place->container.size()), base.empty() ? "." : base);
+  file.buffer0_in_place = in_place->buffer0;
+  file.mapped = std::move(mapped);
+  return true;
+}
+
+}  // namespace
+
+Result<File> read_file(const std::string& path, tinygltf::LoadImageDataFunction images, void* user, BinChunk bin) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) return fail("no such file");
   // Before any parser sees the JSON: tinygltf and the compression patch both recurse on it.
@@ -31,7 +56,11 @@ Result<File> read_file(const std::string& path, tinygltf::LoadImageDataFunction 
   file.binary = is_glb(path);
   std::string err;
   std::string warn;
-  if (!load_file(context, file.model, err, warn, path, file.binary)) return fail(one_line(err));
+  bool loaded = false;
+  if (!(bin == BinChunk::InPlace && file.binary && load_in_place(context, path, file, err, warn, loaded))) {
+    loaded = load_file(context, file.model, err, warn, path, file.binary);
+  }
+  if (!loaded) return fail(one_line(err));
   for (const tinygltf::Buffer& buffer : file.model.buffers) file.buffer_uris.push_back(buffer.uri);
   Result<std::vector<std::string>> decoded = decode_compression(file.model);
   if (!decoded) return std::unexpected(decoded.error());

@@ -25,10 +25,10 @@ using namespace gltf;  // the shared reader: io/gltf_file.h, gltf_model.h, gltf_
 
 // The scene is the walk's (io/gltf_walk.h, shared with the bake), with its cut-outs
 // (io/gltf_cutouts.h); the rest of it is dropped.
-Result<Scene> build_scene(const tinygltf::Model& model, std::span<const std::vector<std::uint8_t>> images) {
-  Result<ModelWalk> walk = walk_model(model);
+Result<Scene> build_scene(const ModelBytes& source, std::span<const std::vector<std::uint8_t>> images) {
+  Result<ModelWalk> walk = walk_model(source);
   if (!walk) return std::unexpected(walk.error());
-  walk->scene.cutouts = read_cutouts(model, *walk, images, walk->scene.report.notes);
+  walk->scene.cutouts = read_cutouts(source, *walk, images, walk->scene.report.notes);
   return std::move(walk->scene);
 }
 
@@ -36,10 +36,11 @@ Result<Scene> build_scene(const tinygltf::Model& model, std::span<const std::vec
 // one is not an error.
 Result<Scene> load(const std::string& path) {
   std::vector<std::vector<std::uint8_t>> images;
-  Result<File> file = read_file(path, &keep_image_bytes, &images);  // Draco and meshopt decoded
+  // Draco and meshopt decoded; a GLB's mesh bytes read in place (io/glb_in_place.h).
+  Result<File> file = read_file(path, &keep_image_bytes, &images, BinChunk::InPlace);
   if (!file) return std::unexpected(file.error());
   images.resize(file->model.images.size());
-  Result<Scene> scene = build_scene(file->model, images);
+  Result<Scene> scene = build_scene(file->bytes(), images);
   if (scene) scene->report.notes.insert(scene->report.notes.end(), file->notes.begin(), file->notes.end());
   return scene;
 }

@@ -87,9 +87,10 @@ bool fits(std::size_t offset, std::size_t count, std::size_t stride, std::size_t
 
 // The first byte of `count` elements inside buffer view `view_index`, after checking that
 // they lie inside the view and the view inside its buffer.
-Result<const unsigned char*> view_bytes(const tinygltf::Model& model, int view_index,
+Result<const unsigned char*> view_bytes(const ModelBytes& source, int view_index,
                                         std::size_t offset, std::size_t count, std::size_t stride,
                                         std::size_t element, const std::string& what) {
+  const tinygltf::Model& model = source.model;
   if (view_index < 0 || static_cast<std::size_t>(view_index) >= model.bufferViews.size()) {
     return fail(what + " refers to buffer view " + std::to_string(view_index) + ", file has " +
                 std::to_string(model.bufferViews.size()));
@@ -99,8 +100,7 @@ Result<const unsigned char*> view_bytes(const tinygltf::Model& model, int view_i
     return fail("buffer view " + std::to_string(view_index) + " refers to buffer " +
                 std::to_string(view.buffer) + ", file has " + std::to_string(model.buffers.size()));
   }
-  const std::vector<unsigned char>& data =
-      model.buffers[static_cast<std::size_t>(view.buffer)].data;
+  const std::span<const unsigned char> data = source.buffer(static_cast<std::size_t>(view.buffer));
   if (!fits(view.byteOffset, 1, 0, view.byteLength, data.size())) {
     return fail("buffer view " + std::to_string(view_index) + " (bytes " +
                 std::to_string(view.byteOffset) + "+" + std::to_string(view.byteLength) +
@@ -153,8 +153,9 @@ struct AccessorBytes {
 };
 
 // Every check read_accessor makes, before a value is read or an element allocated.
-Result<AccessorBytes> locate_accessor(const tinygltf::Model& model, int index, int components,
+Result<AccessorBytes> locate_accessor(const ModelBytes& source, int index, int components,
                                       std::span<const int> allowed, bool may_normalize, const std::string& what) {
+  const tinygltf::Model& model = source.model;
   if (index < 0 || static_cast<std::size_t>(index) >= model.accessors.size()) {
     return fail(what + " refers to accessor " + std::to_string(index) + ", file has " +
                 std::to_string(model.accessors.size()));
@@ -195,7 +196,7 @@ Result<AccessorBytes> locate_accessor(const tinygltf::Model& model, int index, i
                   std::to_string(out.element) + " bytes)");
     }
     auto bytes =
-        view_bytes(model, acc.bufferView, acc.byteOffset, acc.count, out.stride, out.element, name);
+        view_bytes(source, acc.bufferView, acc.byteOffset, acc.count, out.stride, out.element, name);
     if (!bytes) return std::unexpected(bytes.error());
     out.base = *bytes;
   }
@@ -217,11 +218,11 @@ Result<AccessorBytes> locate_accessor(const tinygltf::Model& model, int index, i
     const auto sparse_count = static_cast<std::size_t>(count);
     const auto index_size = static_cast<std::size_t>(component_size(index_type));
     // Sparse indices and values are tightly packed (glTF 2.0 section 5.1.3).
-    auto index_bytes = view_bytes(model, acc.sparse.indices.bufferView,
+    auto index_bytes = view_bytes(source, acc.sparse.indices.bufferView,
                                   static_cast<std::size_t>(acc.sparse.indices.byteOffset),
                                   sparse_count, index_size, index_size, name + " sparse indices");
     if (!index_bytes) return std::unexpected(index_bytes.error());
-    auto value_bytes = view_bytes(model, acc.sparse.values.bufferView,
+    auto value_bytes = view_bytes(source, acc.sparse.values.bufferView,
                                   static_cast<std::size_t>(acc.sparse.values.byteOffset),
                                   sparse_count, out.element, out.element, name + " sparse values");
     if (!value_bytes) return std::unexpected(value_bytes.error());
@@ -289,10 +290,10 @@ Result<void> decode_indices(const AccessorBytes& a, std::size_t vertex_count, co
 
 // Reads accessor `index` as `count * components` numbers, decoded per read_component, with
 // byteStride honoured and any sparse substitution applied.
-Result<std::vector<double>> read_accessor(const tinygltf::Model& model, int index, int components,
+Result<std::vector<double>> read_accessor(const ModelBytes& source, int index, int components,
                                           std::span<const int> allowed, bool may_normalize,
                                           const std::string& what) {
-  Result<AccessorBytes> a = locate_accessor(model, index, components, allowed, may_normalize, what);
+  Result<AccessorBytes> a = locate_accessor(source, index, components, allowed, may_normalize, what);
   if (!a) return std::unexpected(a.error());
   const auto n = static_cast<std::size_t>(components);
   const int type = a->accessor->componentType;
@@ -312,16 +313,16 @@ Result<std::vector<double>> read_accessor(const tinygltf::Model& model, int inde
   return values;
 }
 
-Result<std::vector<glm::dvec3>> read_vec3(const tinygltf::Model& model, int index, std::span<const int> allowed,
+Result<std::vector<glm::dvec3>> read_vec3(const ModelBytes& source, int index, std::span<const int> allowed,
                                           bool may_normalize, const std::string& what, AccessorPath path) {
   if (path == AccessorPath::Generic) {
-    Result<std::vector<double>> values = read_accessor(model, index, 3, allowed, may_normalize, what);
+    Result<std::vector<double>> values = read_accessor(source, index, 3, allowed, may_normalize, what);
     if (!values) return std::unexpected(values.error());
     std::vector<glm::dvec3> out(values->size() / 3);
     for (std::size_t v = 0; v < out.size(); ++v) out[v] = glm::make_vec3(&(*values)[3 * v]);
     return out;
   }
-  Result<AccessorBytes> a = locate_accessor(model, index, 3, allowed, may_normalize, what);
+  Result<AccessorBytes> a = locate_accessor(source, index, 3, allowed, may_normalize, what);
   if (!a) return std::unexpected(a.error());
   std::vector<glm::dvec3> out(a->count, glm::dvec3(0.0));
   if (a->base != nullptr) decode_vec3(*a, out);
@@ -335,15 +336,15 @@ Result<std::vector<glm::dvec3>> read_vec3(const tinygltf::Model& model, int inde
   return out;
 }
 
-Result<std::vector<std::uint32_t>> read_indices(const tinygltf::Model& model, int index, std::size_t vertex_count,
+Result<std::vector<std::uint32_t>> read_indices(const ModelBytes& source, int index, std::size_t vertex_count,
                                                 const std::string& where, AccessorPath path) {
   const std::string what = where + " indices";
-  Result<AccessorBytes> a = locate_accessor(model, index, 1, kIndexTypes, false, what);
+  Result<AccessorBytes> a = locate_accessor(source, index, 1, kIndexTypes, false, what);
   if (!a) return std::unexpected(a.error());
   std::vector<std::uint32_t> out;
   // Sparse or view-less indices are rare: they take the generic reading.
   if (path == AccessorPath::Generic || a->base == nullptr || a->sparse_count > 0) {
-    Result<std::vector<double>> values = read_accessor(model, index, 1, kIndexTypes, false, what);
+    Result<std::vector<double>> values = read_accessor(source, index, 1, kIndexTypes, false, what);
     if (!values) return std::unexpected(values.error());
     out.reserve(values->size());
     for (const double i : *values) {
@@ -398,7 +399,7 @@ Result<glm::dmat4> local_transform(const tinygltf::Node& node, int index) {
 
 // Per-instance local transforms from EXT_mesh_gpu_instancing, or one identity when the node
 // has none. Each row is T * R * S, applied before the node's world matrix.
-Result<std::vector<glm::dmat4>> instance_transforms(const tinygltf::Model& model,
+Result<std::vector<glm::dmat4>> instance_transforms(const ModelBytes& source,
                                                     const tinygltf::Node& node, int index) {
   const auto ext = node.extensions.find("EXT_mesh_gpu_instancing");
   if (ext == node.extensions.end()) return std::vector<glm::dmat4>{glm::dmat4(1.0)};
@@ -420,7 +421,7 @@ Result<std::vector<glm::dmat4>> instance_transforms(const tinygltf::Model& model
     const std::span<const int> types =
         k == 1 ? std::span<const int>(kRotationTypes) : std::span<const int>(kFloatOnly);
     auto values =
-        read_accessor(model, v.GetNumberAsInt(), widths[k], types, true, where + " " + names[k]);
+        read_accessor(source, v.GetNumberAsInt(), widths[k], types, true, where + " " + names[k]);
     if (!values) return std::unexpected(values.error());
     const std::size_t rows = values->size() / static_cast<std::size_t>(widths[k]);
     if (any && rows != count) return fail(where + ": attributes have different counts");

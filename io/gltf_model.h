@@ -40,6 +40,22 @@ inline constexpr std::array kColorTypes{kFloat, kUnsignedByte, kUnsignedShort};
 inline constexpr std::array kFloatOnly{kFloat};
 inline constexpr std::array kRotationTypes{kFloat, kByte, kShort};
 
+/// A model and where its buffers' bytes are: model.buffers[i].data, except a GLB's BIN chunk that
+/// the scene loader leaves in the mapped file (io/glb_in_place.h). Every accessor is read through
+/// this, so its bounds are checked against the bytes actually read.
+struct ModelBytes {
+  const tinygltf::Model& model;
+  std::span<const unsigned char> buffer0_in_place;  // no data: buffer 0 is model.buffers[0].data
+
+  explicit ModelBytes(const tinygltf::Model& m) : model(m) {}
+  ModelBytes(const tinygltf::Model& m, std::span<const unsigned char> in_place) : model(m), buffer0_in_place(in_place) {}
+  /// Buffer `i`'s bytes (i < model.buffers.size()).
+  [[nodiscard]] std::span<const unsigned char> buffer(std::size_t i) const {
+    if (i == 0 && buffer0_in_place.data() != nullptr) return buffer0_in_place;
+    return model.buffers[i].data;
+  }
+};
+
 /// Joins tinygltf's multi-line messages into one short line.
 [[nodiscard]] std::string one_line(std::string_view text);
 
@@ -47,7 +63,7 @@ inline constexpr std::array kRotationTypes{kFloat, kByte, kShort};
 /// [-1, 1] (glTF 2.0 section 3.11), byteStride honoured, sparse values substituted. `allowed`
 /// lists the component types this use accepts; anything else is an error, as is a type of
 /// another width, or `normalized` where `may_normalize` is false (indices). `what` names the use.
-[[nodiscard]] Result<std::vector<double>> read_accessor(const tinygltf::Model& model, int index, int components,
+[[nodiscard]] Result<std::vector<double>> read_accessor(const ModelBytes& source, int index, int components,
                                                         std::span<const int> allowed, bool may_normalize,
                                                         const std::string& what);
 
@@ -59,7 +75,7 @@ inline constexpr std::array kRotationTypes{kFloat, kByte, kShort};
 enum class AccessorPath { Direct, Generic };
 
 /// A VEC3 accessor (POSITION) as read_accessor decodes it, one dvec3 per element.
-[[nodiscard]] Result<std::vector<glm::dvec3>> read_vec3(const tinygltf::Model& model, int index,
+[[nodiscard]] Result<std::vector<glm::dvec3>> read_vec3(const ModelBytes& source, int index,
                                                         std::span<const int> allowed, bool may_normalize,
                                                         const std::string& what,
                                                         AccessorPath path = AccessorPath::Direct);
@@ -67,7 +83,7 @@ enum class AccessorPath { Direct, Generic };
 /// A primitive's index accessor (unsigned byte, short or int; never normalized), each index
 /// checked against `vertex_count`: fails with "WHERE: index I >= vertex count N" at the first one
 /// out of range. `where` names the primitive ("mesh 0 primitive 1").
-[[nodiscard]] Result<std::vector<std::uint32_t>> read_indices(const tinygltf::Model& model, int index,
+[[nodiscard]] Result<std::vector<std::uint32_t>> read_indices(const ModelBytes& source, int index,
                                                               std::size_t vertex_count, const std::string& where,
                                                               AccessorPath path = AccessorPath::Direct);
 
@@ -76,7 +92,7 @@ enum class AccessorPath { Direct, Generic };
 
 /// Per-instance local transforms from EXT_mesh_gpu_instancing, or one identity when the node
 /// has none. Each row is T * R * S, applied before the node's world matrix.
-[[nodiscard]] Result<std::vector<glm::dmat4>> instance_transforms(const tinygltf::Model& model,
+[[nodiscard]] Result<std::vector<glm::dmat4>> instance_transforms(const ModelBytes& source,
                                                                   const tinygltf::Node& node, int index);
 
 /// Adds the node's perspective camera at its world pose to scene.cameras (glTF cameras look down

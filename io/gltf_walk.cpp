@@ -14,9 +14,9 @@ namespace exao::gltf {
 namespace {
 
 // The vertex order of a primitive's triangles: its indices, or 0..count-1 without them.
-Result<std::vector<std::uint32_t>> vertex_order(const tinygltf::Model& model, const tinygltf::Primitive& prim,
+Result<std::vector<std::uint32_t>> vertex_order(const ModelBytes& source, const tinygltf::Primitive& prim,
                                                 std::size_t vertex_count, const std::string& where, AccessorPath path) {
-  if (prim.indices >= 0) return read_indices(model, prim.indices, vertex_count, where, path);
+  if (prim.indices >= 0) return read_indices(source, prim.indices, vertex_count, where, path);
   if (vertex_count > std::numeric_limits<std::uint32_t>::max()) return fail(where + ": too many vertices");
   std::vector<std::uint32_t> order(vertex_count);
   for (std::size_t i = 0; i < vertex_count; ++i) order[i] = static_cast<std::uint32_t>(i);
@@ -48,8 +48,9 @@ std::vector<std::uint32_t> triangle_corners(int mode, std::vector<std::uint32_t>
 }
 
 // The triangle primitives of a mesh; points, lines and primitives without POSITION are skipped.
-Result<std::vector<MeshPrimitive>> decode_mesh(const tinygltf::Model& model, int mesh_index, LoadReport& report,
+Result<std::vector<MeshPrimitive>> decode_mesh(const ModelBytes& source, int mesh_index, LoadReport& report,
                                                AccessorPath path) {
+  const tinygltf::Model& model = source.model;
   const tinygltf::Mesh& mesh = model.meshes[static_cast<std::size_t>(mesh_index)];
   std::vector<MeshPrimitive> out;
   for (std::size_t p = 0; p < mesh.primitives.size(); ++p) {
@@ -78,10 +79,10 @@ Result<std::vector<MeshPrimitive>> decode_mesh(const tinygltf::Model& model, int
     MeshPrimitive decoded;
     decoded.mesh = mesh_index;
     decoded.primitive = static_cast<int>(p);
-    auto positions = read_vec3(model, position->second, kPositionTypes, true, where + " POSITION", path);
+    auto positions = read_vec3(source, position->second, kPositionTypes, true, where + " POSITION", path);
     if (!positions) return std::unexpected(positions.error());
     decoded.positions = std::move(*positions);
-    auto order = vertex_order(model, prim, decoded.positions.size(), where, path);
+    auto order = vertex_order(source, prim, decoded.positions.size(), where, path);
     if (!order) return std::unexpected(order.error());
     decoded.corners = triangle_corners(prim.mode, std::move(*order), where, report);
     if (prim.material >= 0) {
@@ -118,15 +119,16 @@ void emit(ModelWalk& walk, std::size_t part_index) {
 
 // The node's mesh, placed once per instancing row (its parts are emitted after the walk); its
 // primitives decoded on first use.
-Result<void> draw_mesh(const tinygltf::Model& model, const tinygltf::Node& node, int node_index, const glm::dmat4& world,
+Result<void> draw_mesh(const ModelBytes& source, const tinygltf::Node& node, int node_index, const glm::dmat4& world,
                        std::map<int, std::vector<int>>& decoded, ModelWalk& walk, AccessorPath path) {
+  const tinygltf::Model& model = source.model;
   if (static_cast<std::size_t>(node.mesh) >= model.meshes.size()) {
     return fail("node " + std::to_string(node_index) + " refers to mesh " + std::to_string(node.mesh) + ", file has " +
                 std::to_string(model.meshes.size()));
   }
   auto found = decoded.find(node.mesh);
   if (found == decoded.end()) {
-    auto primitives = decode_mesh(model, node.mesh, walk.scene.report, path);
+    auto primitives = decode_mesh(source, node.mesh, walk.scene.report, path);
     if (!primitives) return std::unexpected(primitives.error());
     std::vector<int> indices;
     for (MeshPrimitive& prim : *primitives) {
@@ -135,7 +137,7 @@ Result<void> draw_mesh(const tinygltf::Model& model, const tinygltf::Node& node,
     }
     found = decoded.emplace(node.mesh, std::move(indices)).first;
   }
-  auto rows = instance_transforms(model, node, node_index);
+  auto rows = instance_transforms(source, node, node_index);
   if (!rows) return std::unexpected(rows.error());
   for (std::size_t r = 0; r < rows->size(); ++r) {
     MeshInstance instance;
@@ -152,7 +154,8 @@ Result<void> draw_mesh(const tinygltf::Model& model, const tinygltf::Node& node,
 
 }  // namespace
 
-Result<ModelWalk> walk_model(const tinygltf::Model& model, AccessorPath path) {
+Result<ModelWalk> walk_model(const ModelBytes& source, AccessorPath path) {
+  const tinygltf::Model& model = source.model;
   if (auto ok = check_required_extensions(model); !ok) return std::unexpected(ok.error());
   auto roots = root_nodes(model);
   if (!roots) return std::unexpected(roots.error());
@@ -192,7 +195,7 @@ Result<ModelWalk> walk_model(const tinygltf::Model& model, AccessorPath path) {
       add_camera(model, node, world, walk.scene);
     }
     if (node.mesh >= 0) {
-      if (auto ok = draw_mesh(model, node, visit.node, world, decoded, walk, path); !ok) return std::unexpected(ok.error());
+      if (auto ok = draw_mesh(source, node, visit.node, world, decoded, walk, path); !ok) return std::unexpected(ok.error());
       if (node.skin >= 0) ++skinned;
     }
     for (auto it = node.children.rbegin(); it != node.children.rend(); ++it) stack.push_back({*it, world});

@@ -75,6 +75,6 @@ struct ModelWalk {
 /// file name: the caller adds it) on a malformed file (an index out of range, a cycle in the node
 /// tree, a Draco primitive without fallback) or one with no triangle. `path`: how positions and
 /// indices are read (io/gltf_model.h; Generic only to test Direct against).
-[[nodiscard]] Result<ModelWalk> walk_model(const tinygltf::Model& model, AccessorPath path = AccessorPath::Direct);
+[[nodiscard]] Result<ModelWalk> walk_model(const ModelBytes& source, AccessorPath path = AccessorPath::Direct);
 
 }  // namespace exao::gltf

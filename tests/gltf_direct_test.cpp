@@ -180,7 +180,7 @@ Result<gltf::ModelWalk> walk(const std::string& path, gltf::AccessorPath how) {
   std::vector<std::vector<std::uint8_t>> images;
   Result<gltf::File> file = gltf::read_file(path, &gltf::keep_image_bytes, &images);
   if (!file) return std::unexpected(file.error());
-  return gltf::walk_model(file->model, how);
+  return gltf::walk_model(file->bytes(), how);
 }
 
 void expect_same_walk(const gltf::ModelWalk& got, const gltf::ModelWalk& want) {
@@ -290,6 +290,103 @@ TEST(GltfDirect, HostileFilesAreRefusedAlike) {
   ASSERT_FALSE(loaded.has_value());
   EXPECT_NE(loaded.error().message.find(cut), std::string::npos) << loaded.error().message;
   EXPECT_EQ(loaded.error().message.find('\n'), std::string::npos) << loaded.error().message;
+}
+
+}  // namespace
+}  // namespace exao
+
+namespace exao {
+namespace {
+
+// --- A GLB's mesh bytes read in place (io/glb_in_place.h) -----------------------------------
+
+struct Read {
+  gltf::File file;
+  std::vector<std::vector<std::uint8_t>> images;
+};
+
+Read read(const std::string& path, gltf::BinChunk bin) {
+  Read out;
+  Result<gltf::File> file = gltf::read_file(path, &gltf::keep_image_bytes, &out.images, bin);
+  EXPECT_TRUE(file.has_value()) << file.error().message;
+  if (file) out.file = std::move(*file);
+  return out;
+}
+
+// The loader's reading (in place) walks to the scene the bake's reading (copied) walks to, and
+// keeps the same image bytes.
+void expect_in_place_equals_copied(const std::string& path) {
+  SCOPED_TRACE(path);
+  const Read in_place = read(path, gltf::BinChunk::InPlace);
+  const Read copied = read(path, gltf::BinChunk::Copied);
+  EXPECT_EQ(copied.file.mapped, nullptr);
+  EXPECT_EQ(in_place.images, copied.images);
+  const Result<gltf::ModelWalk> a = gltf::walk_model(in_place.file.bytes());
+  const Result<gltf::ModelWalk> b = gltf::walk_model(copied.file.bytes());
+  ASSERT_TRUE(a.has_value()) << a.error().message;
+  ASSERT_TRUE(b.has_value()) << b.error().message;
+  test::expect_same_scene(a->scene, b->scene);
+  const Result<Scene> loaded = load_gltf(path);
+  ASSERT_TRUE(loaded.has_value()) << loaded.error().message;
+  test::expect_same_scene(*loaded, b->scene);
+}
+
+TEST(GlbInPlace, TinygltfGetsOnlyTheImagesAndTheMeshIsReadFromTheFile) {
+  test::TempDir dir;
+  const std::vector<float> square{0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
+  const std::string image = "not decoded: a cut-out would need it";  // kept encoded, never decoded here
+  const auto file = [&](const std::string& name, bool image_first, bool with_image, const std::string& more) {
+    GltfWriter w;
+    const int first = image_first && with_image ? w.view(image) : -1;
+    const int position = w.positions(square);
+    const int indices = w.indices(std::vector<std::uint32_t>{0, 1, 2, 0, 2, 3}, test::kUInt);
+    const int last = !image_first && with_image ? w.view(image) : -1;
+    std::string members = "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":" + std::to_string(position) +
+                          "},\"indices\":" + std::to_string(indices) +
+                          "}]}],\"nodes\":[{\"mesh\":0}],\"scenes\":[{\"nodes\":[0]}]" + more;
+    if (with_image) members += ",\"images\":[{\"bufferView\":" + std::to_string(std::max(first, last)) + ",\"mimeType\":\"image/png\"}]";
+    const std::string path = (dir / name).string();
+    test::write_file(path, w.glb(members));
+    return path;
+  };
+  const std::size_t mesh = 4 * 12 + 4 * 6;  // positions and indices
+  const struct {
+    std::string path;
+    std::size_t kept;   // what tinygltf copies into buffer 0: up to the image's end, at least a byte
+    std::size_t whole;  // buffer 0
+  } cases[] = {{file("image_first.glb", true, true, ""), image.size(), mesh + image.size()},
+               {file("image_last.glb", false, true, ""), mesh + image.size(), mesh + image.size()},
+               {file("no_image.glb", false, false, ""), 1, mesh}};
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.path);
+    const Read r = read(c.path, gltf::BinChunk::InPlace);
+    EXPECT_NE(r.file.mapped, nullptr) << "read in place";
+    ASSERT_FALSE(r.file.model.buffers.empty());
+    EXPECT_EQ(r.file.model.buffers[0].data.size(), c.kept);
+    EXPECT_EQ(r.file.bytes().buffer(0).size(), c.whole);
+    expect_in_place_equals_copied(c.path);
+  }
+  // A file that names a compression extension is read whole: its decoders rewrite the buffers.
+  const std::string compressed = file("compressed_named.glb", false, true, ",\"extensionsUsed\":[\"EXT_meshopt_compression\"]");
+  EXPECT_EQ(read(compressed, gltf::BinChunk::InPlace).file.mapped, nullptr);
+  expect_in_place_equals_copied(compressed);
+  // Hostile layouts are refused in place with the copy's words (HostileFilesAreRefusedAlike
+  // runs the loader, which reads in place, against the walk of the copy).
+}
+
+TEST(GlbInPlace, RealAssetsLoadAsTheirCopies) {
+  int found = 0;
+  for (const char* name : {"Box/glTF-Binary/Box.glb", "BoxInterleaved/glTF-Binary/BoxInterleaved.glb", "Duck/glTF-Binary/Duck.glb",
+                           "Fox/glTF-Binary/Fox.glb", "NegativeScaleTest/glTF-Binary/NegativeScaleTest.glb",
+                           "OrientationTest/glTF-Binary/OrientationTest.glb",
+                           "SimpleInstancing/glTF-Binary/SimpleInstancing.glb"}) {
+    const auto path = test::real_scene(name);
+    if (!std::filesystem::exists(path)) continue;
+    ++found;
+    EXPECT_NE(read(path.string(), gltf::BinChunk::InPlace).file.mapped, nullptr) << name << " read in place";
+    expect_in_place_equals_copied(path.string());
+  }
+  if (found == 0) GTEST_SKIP() << "the shared scenes are not here";
 }
 
 }  // namespace
