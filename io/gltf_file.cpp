@@ -24,6 +24,39 @@ bool is_glb(const std::string& path) {
 
 namespace {
 
+// The caller's image callback behind a bounds check. tinygltf 2.7 hands an image in a buffer view
+// to the callback as &buffer.data[byteOffset] and byteLength without checking either against the
+// buffer, so a view past the end made the callback read past it (a crash on a 1 KB file). The
+// buffers and views are parsed before the images, so they can be checked here.
+struct ImageGuard {
+  const tinygltf::Model* model = nullptr;  // the model being loaded
+  tinygltf::LoadImageDataFunction images = nullptr;
+  void* user = nullptr;
+};
+
+bool guarded_image(tinygltf::Image* image, int index, std::string* err, std::string* warn, int width, int height,
+                   const unsigned char* bytes, int size, void* user) {
+  const ImageGuard& guard = *static_cast<const ImageGuard*>(user);
+  const int v = image != nullptr ? image->bufferView : -1;
+  if (v >= 0) {
+    const tinygltf::Model& model = *guard.model;
+    const auto view = static_cast<std::size_t>(v);
+    const bool inside = view < model.bufferViews.size() && model.bufferViews[view].buffer >= 0 &&
+                        static_cast<std::size_t>(model.bufferViews[view].buffer) < model.buffers.size() &&
+                        model.bufferViews[view].byteOffset <=
+                            model.buffers[static_cast<std::size_t>(model.bufferViews[view].buffer)].data.size() &&
+                        model.bufferViews[view].byteLength <=
+                            model.buffers[static_cast<std::size_t>(model.bufferViews[view].buffer)].data.size() -
+                                model.bufferViews[view].byteOffset;
+    if (!inside) {
+      if (err) *err += "image " + std::to_string(index) + ": buffer view " + std::to_string(v) + " lies outside its buffer\n";
+      return false;
+    }
+  }
+  if (guard.images == nullptr) return true;  // images not wanted: nothing is read
+  return guard.images(image, index, err, warn, width, height, bytes, size, guard.user);
+}
+
 // Loads `path`'s model as tinygltf would, but with buffer 0's bytes left in the mapped file
 // (io/glb_in_place.h). False, with nothing changed, when the file does not qualify.
 bool load_in_place(tinygltf::TinyGLTF& context, const std::string& path, File& file, std::string& err,
@@ -51,8 +84,9 @@ Result<File> read_file(const std::string& path, tinygltf::LoadImageDataFunction 
   if (auto ok = check_json_depth(path); !ok) return std::unexpected(ok.error());
   tinygltf::TinyGLTF context;
   install_safe_file_access(context);  // buffer and image URIs: regular files only
-  context.SetImageLoader(images, user);
   File file;
+  ImageGuard guard{&file.model, images, user};
+  context.SetImageLoader(&guarded_image, &guard);
   file.binary = is_glb(path);
   std::string err;
   std::string warn;

@@ -282,6 +282,17 @@ TEST(GltfDirect, HostileFilesAreRefusedAlike) {
                  "exceeds buffer 0");
   expect_refused(file("stride.glb", test::kUInt, {0, 1, 2}, "{\"buffer\":0,\"byteOffset\":0,\"byteLength\":48,\"byteStride\":8}"),
                  "byteStride 8 is less than an element");
+  // An image whose view lies past the buffer: tinygltf hands its callback the bytes unchecked.
+  {
+    GltfWriter w;
+    const int position = w.positions(square);
+    const int image = w.raw_view("{\"buffer\":0,\"byteOffset\":16,\"byteLength\":5000000}");
+    const std::string path = (dir / "image_past_buffer.glb").string();
+    test::write_file(path, w.glb("\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":" + std::to_string(position) +
+                                 "}}]}],\"nodes\":[{\"mesh\":0}],\"scenes\":[{\"nodes\":[0]}],\"images\":[{\"bufferView\":" +
+                                 std::to_string(image) + ",\"mimeType\":\"image/png\"}]"));
+    expect_refused(path, "image 0: buffer view 1 lies outside its buffer");
+  }
   // A GLB cut short inside its BIN chunk.
   const std::string whole = variant_glb(Variant{}, 5);
   const std::string cut = (dir / "cut.glb").string();
