@@ -24,6 +24,8 @@
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
+#include "core/huge_pages.h"
+
 
 namespace exao::gltf {
 namespace {
@@ -324,7 +326,10 @@ Result<std::vector<glm::dvec3>> read_vec3(const ModelBytes& source, int index, s
   }
   Result<AccessorBytes> a = locate_accessor(source, index, 3, allowed, may_normalize, what);
   if (!a) return std::unexpected(a.error());
-  std::vector<glm::dvec3> out(a->count, glm::dvec3(0.0));
+  // A big mesh's positions are written once, front to back: huge pages fault 512 times less.
+  std::vector<glm::dvec3> out;
+  reserve_huge(out, a->count);
+  out.resize(a->count, glm::dvec3(0.0));
   if (a->base != nullptr) decode_vec3(*a, out);
   const int type = a->accessor->componentType;
   const bool normalized = a->accessor->normalized;
@@ -356,6 +361,7 @@ Result<std::vector<std::uint32_t>> read_indices(const ModelBytes& source, int in
     }
     return out;
   }
+  reserve_huge(out, a->count);
   out.resize(a->count);
   Result<void> ok;
   switch (a->accessor->componentType) {

@@ -8,6 +8,7 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include "core/huge_pages.h"
 #include "io/gltf_model.h"
 
 namespace exao::gltf {
@@ -105,6 +106,7 @@ void emit(ModelWalk& walk, std::size_t part_index) {
   Part& part = walk.parts[part_index];
   const MeshInstance& instance = walk.instances[static_cast<std::size_t>(part.instance)];
   const MeshPrimitive& prim = walk.primitives[static_cast<std::size_t>(part.primitive)];
+  reserve_huge(part.world, prim.positions.size());
   part.world.resize(prim.positions.size());
   for (std::size_t v = 0; v < prim.positions.size(); ++v) {
     part.world[v] = glm::vec3(instance.world * glm::dvec4(prim.positions[v], 1.0));
@@ -205,7 +207,7 @@ Result<ModelWalk> walk_model(const ModelBytes& source, AccessorPath path) {
   std::size_t triangles = 0;
   for (const Part& part : walk.parts) triangles += walk.primitives[static_cast<std::size_t>(part.primitive)].corners.size() / 3;
   walk.scene.reserve(triangles);
-  walk.triangle_source.reserve(triangles);
+  reserve_huge(walk.triangle_source, triangles);
   for (std::size_t p = 0; p < walk.parts.size(); ++p) emit(walk, p);
   LoadReport& report = walk.scene.report;
   if (report.primitives_skipped > 0) {
