@@ -106,7 +106,7 @@ struct BvhOptions {
 [[nodiscard]] Result<void> check_options(const BvhOptions& options);
 
 struct Bvh {
-  std::vector<Node> nodes;          // nodes[0] is the root
+  std::vector<Node, DefaultInitAllocator<Node>> nodes;  // nodes[0] is the root
   // The triangles are numbered in leaf order (a leaf's are contiguous). Their floats live in the
   // leaves only: each a LeafHeader then its rows, back to back, in node order.
   std::vector<float, DefaultInitAllocator<float, lut::CacheLineAllocator<float>>> leaf_floats;

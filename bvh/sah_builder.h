@@ -44,7 +44,7 @@ struct SahCosts {
 /// The tree, flattened depth first (nodes[0] the root), boxes, children and leaf sizes set; the
 /// spheres left zero. A leaf slot's child is its first triangle in `order`.
 struct Topology {
-  std::vector<Node> nodes;
+  std::vector<Node, DefaultInitAllocator<Node>> nodes;
   std::vector<std::uint32_t> order;   // leaf order: the caller's index of every triangle
 };
 
