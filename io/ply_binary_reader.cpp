@@ -151,6 +151,16 @@ Result<std::vector<glm::vec3>> read_points(const std::vector<ply::Element>& elem
     if (e.scalar_bytes == 0 || e.count > in.left() / e.scalar_bytes) return truncated("element 'vertex'");
     reserve_huge(points, e.count);
     points.resize(e.count);
+    if (!in.swap && std::all_of(layout.coordinate, layout.coordinate + 3, [](Type t) { return t == Type::F32; })) {
+      // The common layout: float coordinates in the machine's order, read without the switch.
+      for (std::uint64_t v = 0; v < e.count; ++v, in.pos += e.scalar_bytes) {
+        const unsigned char* p = in.bytes + in.pos;
+        points[v] = glm::vec3(static_cast<float>(static_cast<double>(load<float>(p + layout.offset[0], false))),
+                              static_cast<float>(static_cast<double>(load<float>(p + layout.offset[1], false))),
+                              static_cast<float>(static_cast<double>(load<float>(p + layout.offset[2], false))));
+      }
+      continue;
+    }
     for (std::uint64_t v = 0; v < e.count; ++v, in.pos += e.scalar_bytes) {
       const unsigned char* p = in.bytes + in.pos;
       // CGAL reads a double, then exao rounds it to float: the same floats either way.
@@ -185,11 +195,15 @@ FaceEntry face_entry_of(const ply::Element& face, std::size_t index_property) {
 }
 
 // Face entry `f` (from 0) into `polygon`, each index checked against the `vertex_count` vertices.
+// `Index`: the index type when the entry is the common one (a uchar count, 32-bit indices,
+// nothing else, in the machine's order), read without the per-value switch; void otherwise.
+template <class Index = void>
 Result<void> read_polygon(Cursor& in, const FaceEntry& entry, std::uint64_t f, std::size_t vertex_count,
                           std::vector<std::size_t>& polygon) {
+  constexpr bool kCommon = !std::is_void_v<Index>;
   if (in.left() < entry.before + entry.count_size) return truncated("element 'face' entry " + std::to_string(f));
   in.pos += entry.before;
-  const std::int64_t n = as_number<std::int64_t>(in.bytes + in.pos, entry.count_type, in.swap);
+  const std::int64_t n = kCommon ? std::int64_t{in.bytes[in.pos]} : as_number<std::int64_t>(in.bytes + in.pos, entry.count_type, in.swap);
   in.pos += entry.count_size;
   if (n < 0 || static_cast<std::uint64_t>(n) > in.left() / entry.index_size) {
     return fail("element 'face' entry " + std::to_string(f) + ": a list of " + std::to_string(n) +
@@ -198,7 +212,13 @@ Result<void> read_polygon(Cursor& in, const FaceEntry& entry, std::uint64_t f, s
   polygon.resize(static_cast<std::size_t>(n));
   for (std::int64_t k = 0; k < n; ++k, in.pos += entry.index_size) {
     // As CGAL stores it: the index converted to size_t (a negative one wraps, and is refused).
-    const auto v = static_cast<std::size_t>(as_number<std::int64_t>(in.bytes + in.pos, entry.index_type, in.swap));
+    std::int64_t index = 0;
+    if constexpr (kCommon) {
+      index = load<Index>(in.bytes + in.pos, false);
+    } else {
+      index = as_number<std::int64_t>(in.bytes + in.pos, entry.index_type, in.swap);
+    }
+    const auto v = static_cast<std::size_t>(index);
     if (v >= vertex_count) {
       return fail("face " + std::to_string(f + 1) + " refers to vertex " + std::to_string(static_cast<long long>(v)) +
                   ", file has " + std::to_string(vertex_count));
@@ -211,15 +231,15 @@ Result<void> read_polygon(Cursor& in, const FaceEntry& entry, std::uint64_t f, s
 }
 
 // The faces as two-sided triangles; faces of fewer than 3 corners skipped and counted in a note.
-Result<Scene> read_faces(const ply::Element& face, std::size_t index_property, const std::vector<glm::vec3>& points,
+template <class Index>
+Result<Scene> read_faces(const ply::Element& face, const FaceEntry& entry, const std::vector<glm::vec3>& points,
                          Cursor& in, const ProgressCallback& progress) {
   Scene scene;
   scene.reserve(face.count);
-  const FaceEntry entry = face_entry_of(face, index_property);
   std::size_t too_small = 0;
   std::vector<std::size_t> polygon;
   for (std::uint64_t f = 0; f < face.count; ++f) {
-    if (Result<void> read = read_polygon(in, entry, f, points.size(), polygon); !read) {
+    if (Result<void> read = read_polygon<Index>(in, entry, f, points.size(), polygon); !read) {
       return std::unexpected(std::move(read.error()));
     }
     if (polygon.size() < 3) {
@@ -252,7 +272,12 @@ std::optional<Result<Scene>> read_binary_ply(std::string_view file, const Progre
   Cursor in{reinterpret_cast<const unsigned char*>(file.data()), file.size(), header->data, swap};
   const Result<std::vector<glm::vec3>> points = read_points(header->elements, *layout, in);
   if (!points) return Result<Scene>(std::unexpected(points.error()));
-  return read_faces(*layout->face, layout->index_property, *points, in, progress);
+  const FaceEntry entry = face_entry_of(*layout->face, layout->index_property);
+  if (!swap && entry.before == 0 && entry.after == 0 && entry.count_type == Type::U8) {
+    if (entry.index_type == Type::I32) return read_faces<std::int32_t>(*layout->face, entry, *points, in, progress);
+    if (entry.index_type == Type::U32) return read_faces<std::uint32_t>(*layout->face, entry, *points, in, progress);
+  }
+  return read_faces<void>(*layout->face, entry, *points, in, progress);
 }
 
 }  // namespace exao
