@@ -84,16 +84,19 @@ double leaf_reach(const LeafBlock& leaf, const glm::dvec3& centre, double found)
 // so a factor of 1 + 1e-12 covers the rounding of both.
 double subtree_reach(const Bvh& bvh, std::uint32_t index, const glm::dvec3& centre, double found) {
   const Node& node = bvh.nodes[index];
+  const int count = std::min<int>(node.child_count, kMaxChildren);
   int order[kMaxChildren];
   double bound[kMaxChildren];
-  for (int k = 0; k < node.child_count; ++k) {
+  for (int k = 0; k < count; ++k) {
     const glm::dvec3 c(node.centre_x[k], node.centre_y[k], node.centre_z[k]);
     bound[k] = glm::length(c - centre) + double(node.radius[k]);
     order[k] = k;
   }
-  // Farthest first, so that the nearer children are pruned by what it finds.
-  std::sort(order, order + node.child_count, [&](int a, int b) { return bound[a] > bound[b]; });
-  for (int i = 0; i < node.child_count; ++i) {
+  // Farthest first, so that the nearer children are pruned by what it finds (the order changes
+  // only how much is pruned, never the maximum).
+  for (int i = 1; i < count; ++i)
+    for (int j = i; j > 0 && bound[order[j]] > bound[order[j - 1]]; --j) std::swap(order[j], order[j - 1]);
+  for (int i = 0; i < count; ++i) {
     const int k = order[i];
     if (bound[k] * (1.0 + 1e-12) <= found) continue;
     found = node.leaf_size[k] != 0 ? leaf_reach(bvh.leaf_at(node.child[k]), centre, found)
