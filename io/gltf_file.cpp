@@ -34,45 +34,45 @@ struct ImageGuard {
   void* user = nullptr;
 };
 
+// Whether buffer view `v` lies inside its buffer's bytes.
+bool view_inside_buffer(const tinygltf::Model& model, int v) {
+  if (v < 0 || static_cast<std::size_t>(v) >= model.bufferViews.size()) return false;
+  const tinygltf::BufferView& view = model.bufferViews[static_cast<std::size_t>(v)];
+  if (view.buffer < 0 || static_cast<std::size_t>(view.buffer) >= model.buffers.size()) return false;
+  const std::size_t size = model.buffers[static_cast<std::size_t>(view.buffer)].data.size();
+  return view.byteOffset <= size && view.byteLength <= size - view.byteOffset;
+}
+
 bool guarded_image(tinygltf::Image* image, int index, std::string* err, std::string* warn, int width, int height,
                    const unsigned char* bytes, int size, void* user) {
   const ImageGuard& guard = *static_cast<const ImageGuard*>(user);
   const int v = image != nullptr ? image->bufferView : -1;
-  if (v >= 0) {
-    const tinygltf::Model& model = *guard.model;
-    const auto view = static_cast<std::size_t>(v);
-    const bool inside = view < model.bufferViews.size() && model.bufferViews[view].buffer >= 0 &&
-                        static_cast<std::size_t>(model.bufferViews[view].buffer) < model.buffers.size() &&
-                        model.bufferViews[view].byteOffset <=
-                            model.buffers[static_cast<std::size_t>(model.bufferViews[view].buffer)].data.size() &&
-                        model.bufferViews[view].byteLength <=
-                            model.buffers[static_cast<std::size_t>(model.bufferViews[view].buffer)].data.size() -
-                                model.bufferViews[view].byteOffset;
-    if (!inside) {
-      if (err) *err += "image " + std::to_string(index) + ": buffer view " + std::to_string(v) + " lies outside its buffer\n";
-      return false;
-    }
+  if (v >= 0 && !view_inside_buffer(*guard.model, v)) {
+    if (err) *err += "image " + std::to_string(index) + ": buffer view " + std::to_string(v) + " lies outside its buffer\n";
+    return false;
   }
   if (guard.images == nullptr) return true;  // images not wanted: nothing is read
   return guard.images(image, index, err, warn, width, height, bytes, size, guard.user);
 }
 
 // Loads `path`'s model as tinygltf would, but with buffer 0's bytes left in the mapped file
-// (io/glb_in_place.h). False, with nothing changed, when the file does not qualify.
-bool load_in_place(tinygltf::TinyGLTF& context, const std::string& path, File& file, std::string& err,
-                   std::string& warn, bool& loaded) {
+// (io/glb_in_place.h): tinygltf's result, or nothing, with `file` unchanged, when the file does
+// not qualify.
+std::optional<bool> load_in_place(tinygltf::TinyGLTF& context, const std::string& path, File& file, std::string& err,
+                                  std::string& warn) {
   auto mapped = std::make_shared<const MappedFile>(path);
-  if (!mapped->ok()) return false;
+  if (!mapped->ok()) return std::nullopt;
   const std::string_view bytes = mapped->bytes();
   const std::optional<GlbInPlace> in_place =
       glb_in_place({reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size()});
-  if (!in_place || in_place->container.size() > std::numeric_limits<unsigned int>::max()) return false;
+  if (!in_place || in_place->container.size() > std::numeric_limits<unsigned int>::max()) return std::nullopt;
   const std::string base = std::filesystem::path(path).parent_path().string();
-  loaded = context.LoadBinaryFromMemory(&file.model, &err, &warn, in_place->container.data(),
-                                        static_cast<unsigned int>(in_place->container.size()), base.empty() ? "." : base);
+  const bool loaded = context.LoadBinaryFromMemory(&file.model, &err, &warn, in_place->container.data(),
+                                                   static_cast<unsigned int>(in_place->container.size()),
+                                                   base.empty() ? "." : base);
   file.buffer0_in_place = in_place->buffer0;
   file.mapped = std::move(mapped);
-  return true;
+  return loaded;
 }
 
 }  // namespace
@@ -90,11 +90,10 @@ Result<File> read_file(const std::string& path, tinygltf::LoadImageDataFunction 
   file.binary = is_glb(path);
   std::string err;
   std::string warn;
-  bool loaded = false;
-  if (!(bin == BinChunk::InPlace && file.binary && load_in_place(context, path, file, err, warn, loaded))) {
-    loaded = load_file(context, file.model, err, warn, path, file.binary);
-  }
-  if (!loaded) return fail(one_line(err));
+  std::optional<bool> loaded;
+  if (bin == BinChunk::InPlace && file.binary) loaded = load_in_place(context, path, file, err, warn);
+  if (!loaded) loaded = load_file(context, file.model, err, warn, path, file.binary);
+  if (!*loaded) return fail(one_line(err));
   for (const tinygltf::Buffer& buffer : file.model.buffers) file.buffer_uris.push_back(buffer.uri);
   Result<std::vector<std::string>> decoded = decode_compression(file.model);
   if (!decoded) return std::unexpected(decoded.error());
