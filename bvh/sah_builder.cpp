@@ -389,6 +389,14 @@ Result<Topology> build_topology(BuildPrimitives& primitives, const BvhOptions& o
     return fail("bvh: more than " + std::to_string(kMaxDepth) + " levels: too many triangles share one centroid");
   }
   Topology out;
+  reserve_huge(out.order, primitives.size());
+  out.order.resize(primitives.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, primitives.size(), kGrain), [&](const tbb::blocked_range<std::size_t>& range) {
+    for (std::size_t i = range.begin(); i != range.end(); ++i) out.order[i] = primitives[i].index;
+  });
+  // Freed before the nodes are written, so that the kernel can give their pages to the nodes:
+  // a page touched for the first time costs most (docs/scale.md, "This machine's fresh memory").
+  BuildPrimitives().swap(primitives);
   if (top.leaf_size[0] != 0) {
     out.nodes.push_back(node_of(top, nullptr));
   } else {
@@ -396,11 +404,6 @@ Result<Topology> build_topology(BuildPrimitives& primitives, const BvhOptions& o
     out.nodes.resize(top.child[0]->subtree_nodes);  // unwritten until flatten writes each node
     flatten(*top.child[0], 0, out);
   }
-  reserve_huge(out.order, primitives.size());
-  out.order.resize(primitives.size());
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, primitives.size(), kGrain), [&](const tbb::blocked_range<std::size_t>& range) {
-    for (std::size_t i = range.begin(); i != range.end(); ++i) out.order[i] = primitives[i].index;
-  });
   return out;
 }
 

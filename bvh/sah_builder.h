@@ -48,7 +48,7 @@ struct Topology {
   std::vector<std::uint32_t> order;   // leaf order: the caller's index of every triangle
 };
 
-/// Builds over `primitives` (reordered in place; at least one). Fails only when the tree would
+/// Builds over `primitives` (at least one; freed once the leaf order is taken from them). Fails only when the tree would
 /// be deeper than traversal's stack allows (64 levels), which takes millions of triangles with
 /// the same centroid. `progress` gets (triangles placed in leaves, total).
 [[nodiscard]] Result<Topology> build_topology(BuildPrimitives& primitives, const BvhOptions& options,
