@@ -2,31 +2,19 @@
 
 #include <algorithm>
 #include <array>
-#include <cstring>
 #include <string>
 #include <string_view>
 
 #include <nlohmann/json.hpp>
 
+#include "io/glb_container.h"
+
 namespace exao::gltf {
 namespace {
 
-constexpr std::uint32_t kMagic = 0x46546C67u;  // "glTF"
-constexpr std::uint32_t kJson = 0x4E4F534Au;
-constexpr std::uint32_t kBin = 0x004E4942u;
 // Extensions whose decoders (io/gltf_compression.h) read and rewrite the model's buffers.
 constexpr std::array<std::string_view, 3> kRewrites{"KHR_draco_mesh_compression", "EXT_meshopt_compression",
                                                     "KHR_meshopt_compression"};
-
-std::uint32_t read32(std::span<const unsigned char> bytes, std::size_t at) {
-  std::uint32_t v = 0;
-  std::memcpy(&v, bytes.data() + at, sizeof v);
-  return v;
-}
-
-void put32(std::vector<unsigned char>& out, std::uint32_t v) {
-  for (int k = 0; k < 4; ++k) out.push_back(static_cast<unsigned char>(v >> (8 * k)));
-}
 
 // An unsigned integer member of `o`, or `fallback` when absent; nothing when it is not one.
 std::optional<std::uint64_t> unsigned_member(const nlohmann::json& o, const char* name, std::uint64_t fallback) {
@@ -65,12 +53,12 @@ std::optional<std::uint64_t> images_end(const nlohmann::json& json, std::uint64_
 
 std::optional<GlbInPlace> glb_in_place(std::span<const unsigned char> glb) {
   // glTF 2.0 section 4.4: a 12-byte header, the JSON chunk, then the BIN chunk.
-  if (glb.size() < 20 || read32(glb, 0) != kMagic || read32(glb, 16) != kJson) return std::nullopt;
-  const std::uint64_t json_length = read32(glb, 12);
+  if (glb.size() < 20 || glb_word(glb.data()) != kGlbMagic || glb_word(glb.data() + 16) != kJsonChunk) return std::nullopt;
+  const std::uint64_t json_length = glb_word(glb.data() + 12);
   if (json_length > glb.size() - 20) return std::nullopt;
   const std::uint64_t bin_at = (20 + json_length + 3) / 4 * 4;
-  if (bin_at + 8 > glb.size() || read32(glb, bin_at + 4) != kBin) return std::nullopt;
-  const std::uint64_t bin_length = read32(glb, bin_at);
+  if (bin_at + 8 > glb.size() || glb_word(glb.data() + bin_at + 4) != kBinChunk) return std::nullopt;
+  const std::uint64_t bin_length = glb_word(glb.data() + bin_at);
   if (bin_length > glb.size() - bin_at - 8) return std::nullopt;
   const std::string_view text(reinterpret_cast<const char*>(glb.data() + 20), json_length);
   for (const std::string_view name : kRewrites)
@@ -98,19 +86,13 @@ std::optional<GlbInPlace> glb_in_place(std::span<const unsigned char> glb) {
   } catch (const nlohmann::json::exception&) {  // a string that is not UTF-8: tinygltf will say so
     return std::nullopt;
   }
-  patched.resize((patched.size() + 3) / 4 * 4, ' ');
   const std::uint64_t chunk = std::min((keep + 3) / 4 * 4, bin_length);
   GlbInPlace out;
   std::vector<unsigned char>& c = out.container;
-  c.reserve(28 + patched.size() + chunk);
-  put32(c, kMagic);
-  put32(c, 2);
-  put32(c, static_cast<std::uint32_t>(28 + patched.size() + chunk));
-  put32(c, static_cast<std::uint32_t>(patched.size()));
-  put32(c, kJson);
-  c.insert(c.end(), patched.begin(), patched.end());
-  put32(c, static_cast<std::uint32_t>(chunk));
-  put32(c, kBin);
+  c.reserve(28 + patched.size() + 3 + chunk);
+  start_glb(c, patched, 8 + chunk);
+  append_glb_word(c, static_cast<std::uint32_t>(chunk));
+  append_glb_word(c, kBinChunk);
   c.insert(c.end(), glb.data() + bin_at + 8, glb.data() + bin_at + 8 + chunk);
   out.buffer0 = glb.subspan(bin_at + 8, *length);
   return out;

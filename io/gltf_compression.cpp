@@ -18,6 +18,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "io/glb_container.h"
 #include "io/mapped_file.h"
 
 namespace exao::gltf {
@@ -79,16 +80,6 @@ bool patch_for_tinygltf(std::string& json_text) {
   }
   if (changed) json_text = json.dump();
   return changed;
-}
-
-std::uint32_t read32(const unsigned char* bytes, std::size_t at) {
-  std::uint32_t v = 0;
-  std::memcpy(&v, bytes + at, sizeof v);
-  return v;
-}
-
-void put32(std::vector<unsigned char>& out, std::uint32_t v) {
-  for (int k = 0; k < 4; ++k) out.push_back(static_cast<unsigned char>(v >> (8 * k)));
 }
 
 // ---- Writing decoded bytes -----------------------------------------------------------------------
@@ -493,19 +484,13 @@ bool load_file(tinygltf::TinyGLTF& context, tinygltf::Model& model, std::string&
     // GLB (glTF 2.0 section 4.4): header, JSON chunk, optional BIN chunk; only the JSON changes.
     std::vector<unsigned char> rebuilt;
     if (size >= 20) {
-      const std::size_t json_length = read32(data, 12);
-      if (read32(data, 16) == 0x4E4F534Au && json_length <= size - 20) {
+      const std::size_t json_length = glb_word(data + 12);
+      if (glb_word(data + 16) == kJsonChunk && json_length <= size - 20) {
         std::string json(data + 20, data + 20 + json_length);
         if (patch_for_tinygltf(json)) {
-          json.resize((json.size() + 3) / 4 * 4, ' ');
           const std::size_t rest = (20 + json_length + 3) / 4 * 4;  // the BIN chunk, as it was
           const std::size_t tail = rest < size ? size - rest : 0;
-          put32(rebuilt, 0x46546C67u);
-          put32(rebuilt, 2);
-          put32(rebuilt, static_cast<std::uint32_t>(20 + json.size() + tail));
-          put32(rebuilt, static_cast<std::uint32_t>(json.size()));
-          put32(rebuilt, 0x4E4F534Au);
-          rebuilt.insert(rebuilt.end(), json.begin(), json.end());
+          start_glb(rebuilt, json, tail);
           if (tail > 0) rebuilt.insert(rebuilt.end(), data + rest, data + size);
           if (rebuilt.size() > std::numeric_limits<unsigned int>::max()) {
             err = "file is larger than 4 GiB";

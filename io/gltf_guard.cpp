@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/file_kind.h"
+#include "io/glb_container.h"
 
 namespace exao::gltf {
 namespace {
@@ -42,10 +43,6 @@ struct DepthScan {
     return true;
   }
 };
-
-std::uint32_t little_endian_u32(const unsigned char* p) {
-  return std::uint32_t{p[0]} | std::uint32_t{p[1]} << 8 | std::uint32_t{p[2]} << 16 | std::uint32_t{p[3]} << 24;
-}
 
 bool exists(const std::string& path, void*) {
   std::error_code ec;
@@ -92,8 +89,8 @@ Result<void> check_json_depth(const std::string& path) {
   std::vector<char> block(1 << 16);
   // GLB (glTF 2.0 section 4.4): 12-byte header, then the JSON chunk's length and type.
   if (got >= 4 && std::memcmp(header.data(), "glTF", 4) == 0) {
-    if (got < header.size() || little_endian_u32(header.data() + 16) != 0x4E4F534Au) return {};
-    std::uint64_t left = little_endian_u32(header.data() + 12);
+    if (got < header.size() || glb_word(header.data() + 16) != kJsonChunk) return {};
+    std::uint64_t left = glb_word(header.data() + 12);
     while (left > 0 && in) {
       in.read(block.data(), static_cast<std::streamsize>(std::min<std::uint64_t>(left, block.size())));
       const auto n = static_cast<std::size_t>(in.gcount());

@@ -26,7 +26,6 @@
 
 #include "core/huge_pages.h"
 
-
 namespace exao::gltf {
 namespace {
 

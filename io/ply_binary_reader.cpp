@@ -138,6 +138,24 @@ struct Cursor {
 
 std::unexpected<Error> truncated(const std::string& where) { return fail("the data ends inside " + where); }
 
+// The entries of element `vertex` into `points` (sized). `Floats`: the common layout, float
+// coordinates in the machine's byte order, read without the per-value switch on the type.
+template <bool Floats>
+void read_vertices(const ply::Element& vertex, const Layout& layout, Cursor& in, std::vector<glm::vec3>& points) {
+  for (std::uint64_t v = 0; v < vertex.count; ++v, in.pos += vertex.scalar_bytes) {
+    const unsigned char* p = in.bytes + in.pos;
+    const auto coordinate = [&](int k) {
+      if constexpr (Floats) {
+        return static_cast<double>(load<float>(p + layout.offset[k], false));
+      } else {
+        return as_number<double>(p + layout.offset[k], layout.coordinate[k], in.swap);
+      }
+    };
+    // CGAL reads a double, then exao rounds it to float: the same floats either way.
+    points[v] = glm::vec3(static_cast<float>(coordinate(0)), static_cast<float>(coordinate(1)), static_cast<float>(coordinate(2)));
+  }
+}
+
 // The vertex positions; the scalar elements before "face" other than "vertex" skipped by size.
 Result<std::vector<glm::vec3>> read_points(const std::vector<ply::Element>& elements, const Layout& layout, Cursor& in) {
   std::vector<glm::vec3> points;
@@ -152,21 +170,9 @@ Result<std::vector<glm::vec3>> read_points(const std::vector<ply::Element>& elem
     reserve_huge(points, e.count);
     points.resize(e.count);
     if (!in.swap && std::all_of(layout.coordinate, layout.coordinate + 3, [](Type t) { return t == Type::F32; })) {
-      // The common layout: float coordinates in the machine's order, read without the switch.
-      for (std::uint64_t v = 0; v < e.count; ++v, in.pos += e.scalar_bytes) {
-        const unsigned char* p = in.bytes + in.pos;
-        points[v] = glm::vec3(static_cast<float>(static_cast<double>(load<float>(p + layout.offset[0], false))),
-                              static_cast<float>(static_cast<double>(load<float>(p + layout.offset[1], false))),
-                              static_cast<float>(static_cast<double>(load<float>(p + layout.offset[2], false))));
-      }
-      continue;
-    }
-    for (std::uint64_t v = 0; v < e.count; ++v, in.pos += e.scalar_bytes) {
-      const unsigned char* p = in.bytes + in.pos;
-      // CGAL reads a double, then exao rounds it to float: the same floats either way.
-      points[v] = glm::vec3(static_cast<float>(as_number<double>(p + layout.offset[0], layout.coordinate[0], in.swap)),
-                            static_cast<float>(as_number<double>(p + layout.offset[1], layout.coordinate[1], in.swap)),
-                            static_cast<float>(as_number<double>(p + layout.offset[2], layout.coordinate[2], in.swap)));
+      read_vertices<true>(e, layout, in, points);
+    } else {
+      read_vertices<false>(e, layout, in, points);
     }
   }
   return points;
