@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Fuzzes every loader with AFL++ for a bounded time and fails on any crash (README, "Fuzzing").
 #   bash scripts/fuzz.sh [SECONDS_PER_CAMPAIGN]      (default 120; FUZZ_SECONDS also sets it)
-# Seven campaigns, one at a time: glTF/GLB; OBJ, PLY, OFF, STL; receivers as text and as PLY.
+# Seven campaigns, two at a time: glTF/GLB; OBJ, PLY, OFF, STL; receivers as text and as PLY.
 # The targets (tests/fuzz/) are built in build-fuzz/ with AFL++'s GCC wrapper and ASan+UBSan, so
 # a memory error is a crash too. Findings stay in build-fuzz/findings/<campaign>/default/.
 set -euo pipefail

@@ -6,7 +6,7 @@
 # failing on any crash (build-fuzz/, scripts/fuzz.sh). As root it installs SLURM
 # (scripts/install-slurm.sh) so that the scheduler test (tests/slurm_shards.sh) runs.
 # CI runs all three: about 45 minutes on 2 cores from a cold cache (plain build + tests ~12 min,
-# sanitizer build + tests ~21, fuzzing ~10).
+# sanitizer build + tests ~21, fuzzing ~8).
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 quick=0
