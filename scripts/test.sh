@@ -5,8 +5,8 @@
 # scripts/test-sanitize.sh) and every fuzz campaign for FUZZ_SECONDS (default 60 here) each,
 # failing on any crash (build-fuzz/, scripts/fuzz.sh). As root it installs SLURM
 # (scripts/install-slurm.sh) so that the scheduler test (tests/slurm_shards.sh) runs.
-# CI runs all three: about 45 minutes on 2 cores from a cold cache (plain build + tests ~12 min,
-# sanitizer build + tests ~21, fuzzing ~8).
+# CI runs all three: about 40 minutes on 2 cores once the packages are installed (plain build +
+# tests ~9 min, sanitizer build + tests ~23, fuzzing ~8).
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 quick=0
