@@ -183,7 +183,7 @@ class Builder {
  private:
   Range bounded(std::size_t begin, std::size_t end) const {
     // SSE, as the binning: a primitive's lo and hi are one load each (lane 3 carried and
-    // ignored), its doubled centroid one add; the same floats as Bounds2::add.
+    // ignored), its doubled centroid one add; the same floats as centroid2 and Box::extend.
     const auto over = [&](const tbb::blocked_range<std::size_t>& range, Bounds2 b) {
       __m128 lo = _mm_set1_ps(kInf), hi = _mm_set1_ps(-kInf), c_lo = lo, c_hi = hi;
       for (std::size_t i = range.begin(); i != range.end(); ++i) {
